@@ -1,0 +1,191 @@
+#include "Program.h"
+
+#include "../Error.h"
+
+#include <OpenImageIO/hash.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace wv {
+
+// Bump when the cache format or anything outside the hashed inputs changes.
+static const char* kCacheVersion = "wavevcm-program-cache-1";
+
+std::string findKernelDir()
+{
+    std::vector<fs::path> candidates;
+    if (const char* env = std::getenv("WAVEVCM_KERNEL_DIR")) candidates.emplace_back(env);
+    std::error_code ec;
+    fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) candidates.push_back(exe.parent_path().parent_path() / "share" / "wavevcm" / "kernels");
+    candidates.emplace_back(WAVEVCM_SOURCE_KERNEL_DIR);
+    for (const fs::path& dir : candidates)
+        if (fs::exists(dir / "shared_types.h", ec)) return dir.string();
+    std::string tried;
+    for (const fs::path& dir : candidates) tried += "\n  " + dir.string();
+    throw Error("cannot find the kernel sources (kernels/shared_types.h); looked in:" + tried +
+                "\nset WAVEVCM_KERNEL_DIR to the kernels/ directory");
+}
+
+static std::string readFile(const fs::path& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path.string() + ": cannot read");
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// Includes resolve against the including file's directory, then kernelDir.
+static void expandInto(const fs::path& kernelDir, const fs::path& file, std::set<fs::path>& included,
+                       std::string& out)
+{
+    static const std::regex includeLine(R"(^\s*#\s*include\s*"([^"]+)\"\s*$)");
+    std::istringstream in(readFile(file));
+    std::string name = file.filename().string();
+    out += "#line 1 \"" + name + "\"\n";
+    std::string line;
+    int lineNumber = 0;
+    while (std::getline(in, line)) {
+        ++lineNumber;
+        std::smatch m;
+        if (!std::regex_match(line, m, includeLine)) {
+            out += line + "\n";
+            continue;
+        }
+        std::error_code ec;
+        fs::path header = file.parent_path() / m[1].str();
+        if (!fs::exists(header, ec)) header = kernelDir / m[1].str();
+        if (!fs::exists(header, ec))
+            throw Error(file.string() + ":" + std::to_string(lineNumber) + ": included file \"" + m[1].str() +
+                        "\" not found");
+        if (included.insert(fs::weakly_canonical(header)).second) expandInto(kernelDir, header, included, out);
+        out += "#line " + std::to_string(lineNumber + 1) + " \"" + name + "\"\n";
+    }
+}
+
+std::string expandKernelSources(const std::string& kernelDir, const std::vector<std::string>& files)
+{
+    std::set<fs::path> included;
+    std::string out;
+    for (const std::string& f : files) {
+        fs::path path = fs::path(f).is_absolute() ? fs::path(f) : fs::path(kernelDir) / f;
+        expandInto(kernelDir, path, included, out);
+    }
+    return out;
+}
+
+static fs::path cacheDir()
+{
+    if (const char* env = std::getenv("WAVEVCM_CACHE_DIR")) {
+        if (std::string(env) == "off") return {};
+        return env;
+    }
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return fs::path(xdg) / "wavevcm";
+    if (const char* home = std::getenv("HOME"); home && *home) return fs::path(home) / ".cache" / "wavevcm";
+    return {};
+}
+
+static std::string buildLog(const cl::Program& program, const cl::Device& device)
+{
+    try {
+        return program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
+    } catch (const cl::Error&) {
+        return "(no build log)";
+    }
+}
+
+static double secondsSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Loads a cached binary; any failure (missing, corrupt, rejected by the
+// driver) means "not cached" and the caller builds from source.
+static bool loadCached(const fs::path& file, const cl::Context& context, const DeviceInfo& device,
+                       const std::string& options, cl::Program* program)
+{
+    std::error_code ec;
+    if (!fs::exists(file, ec)) return false;
+    std::string bytes = readFile(file);
+    if (bytes.empty()) return false;
+    try {
+        cl::Program::Binaries binaries{std::vector<unsigned char>(bytes.begin(), bytes.end())};
+        std::vector<cl_int> status;
+        cl::Program p(context, {device.device}, binaries, &status);
+        p.build({device.device}, options.c_str());
+        *program = p;
+        return true;
+    } catch (const cl::Error&) {
+        return false;
+    }
+}
+
+static void storeCached(const fs::path& file, const cl::Program& program)
+{
+    std::vector<std::vector<unsigned char>> binaries;
+    try {
+        binaries = program.getInfo<CL_PROGRAM_BINARIES>();
+    } catch (const cl::Error&) {
+        return; // the driver cannot export binaries: no cache, nothing wrong
+    }
+    if (binaries.empty() || binaries[0].empty()) return;
+    std::error_code ec;
+    fs::create_directories(file.parent_path(), ec);
+    // Write then rename, so a concurrent or interrupted run never sees half a file.
+    fs::path tmp = file;
+    tmp += ".tmp" + std::to_string(::getpid());
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(binaries[0].data()), std::streamsize(binaries[0].size()));
+        if (!out) { fs::remove(tmp, ec); return; }
+    }
+    fs::rename(tmp, file, ec);
+    if (ec) fs::remove(tmp, ec);
+}
+
+ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, const std::string& source,
+                          const std::string& options)
+{
+    auto start = std::chrono::steady_clock::now();
+    ProgramBuild result;
+    fs::path dir = cacheDir();
+    if (!dir.empty()) {
+        std::string key = std::string(kCacheVersion) + '\n' + device.platformName + '\n' + device.name + '\n' +
+                          device.version + '\n' + device.driverVersion + '\n' + options + '\n' + source;
+        char name[32];
+        std::snprintf(name, sizeof name, "%016llx.bin",
+                      static_cast<unsigned long long>(OIIO::farmhash::Fingerprint64(key.data(), key.size())));
+        result.cacheFile = (dir / name).string();
+        if (loadCached(result.cacheFile, context, device, options, &result.program)) {
+            result.fromCache = true;
+            result.seconds = secondsSince(start);
+            return result;
+        }
+    }
+
+    cl::Program program(context, source);
+    try {
+        program.build({device.device}, options.c_str());
+    } catch (const cl::Error& e) {
+        throw Error("kernel build failed on " + device.name + " (" + device.platformName + ") with options '" +
+                    options + "': " + clErrorName(e.err()) + "\n--- build log ---\n" +
+                    buildLog(program, device.device) + "\n--- end of build log ---");
+    }
+    if (!result.cacheFile.empty()) storeCached(result.cacheFile, program);
+    result.program = program;
+    result.seconds = secondsSince(start);
+    return result;
+}
+
+} // namespace wv

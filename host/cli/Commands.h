@@ -1,0 +1,30 @@
+// The subcommands of `wavevcm`; each returns the process exit code.
+#pragma once
+
+#include <string>
+
+namespace wv {
+
+struct RenderOptions {
+    std::string scene; // empty = the default scene
+    std::string output = "render.exr";
+    std::string algorithm = "el";
+    int spp = 0;         // 0 = not given
+    double seconds = 0;  // 0 = not given
+    std::string device;
+    int width = 0, height = 0; // 0 = from the camera
+    int maxPathLength = 10;
+    unsigned seed = 0;
+    int wavefront = 0;
+    std::string statsFile;
+    bool quiet = false;
+};
+
+int runRender(const RenderOptions& options);
+int runDevices();
+int runCompare(const std::string& test, const std::string& reference, double maxRelMse);
+
+// scenes/cornell-box.gltf next to the installed binary or in the source tree.
+std::string defaultScenePath();
+
+} // namespace wv

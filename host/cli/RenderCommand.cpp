@@ -1,0 +1,137 @@
+#include "../Error.h"
+#include "../bvh/Bvh.h"
+#include "../render/Renderer.h"
+#include "../scene/GltfLoader.h"
+#include "Commands.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace wv {
+
+std::string defaultScenePath()
+{
+    std::error_code ec;
+    fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        fs::path installed = exe.parent_path().parent_path() / "share" / "wavevcm" / "scenes" / "cornell-box.gltf";
+        if (fs::exists(installed, ec)) return installed.string();
+    }
+    return (fs::path(WAVEVCM_SOURCE_DIR) / "scenes" / "cornell-box.gltf").string();
+}
+
+static double since(std::chrono::steady_clock::time_point t)
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+static void validate(const RenderOptions& o)
+{
+    if (o.spp < 0) throw Error("--spp must be positive");
+    if (o.seconds < 0 || !std::isfinite(o.seconds)) throw Error("--time must be a positive number of seconds");
+    if (o.width < 0 || o.height < 0 || o.width > 32768 || o.height > 32768)
+        throw Error("--width and --height must be between 1 and 32768");
+    if (o.maxPathLength < 1) throw Error("--max-path-length must be at least 1");
+    if (o.wavefront < 0) throw Error("--wavefront must be positive");
+}
+
+// The image size: both given, one given (the other from the camera's aspect
+// ratio), or neither (512 high).
+static void resolution(const RenderOptions& o, const Scene& scene, int* width, int* height)
+{
+    float aspect = scene.camera.aspectRatio > 0 ? scene.camera.aspectRatio : 1.0f;
+    *height = o.height > 0 ? o.height : (o.width > 0 ? std::max(1, int(std::lround(o.width / aspect))) : 512);
+    *width = o.width > 0 ? o.width : std::max(1, int(std::lround(*height * aspect)));
+}
+
+int runRender(const RenderOptions& o)
+{
+    validate(o);
+    RenderSettings settings;
+    settings.algorithm = parseAlgorithm(o.algorithm);
+    if (!isImplemented(settings.algorithm))
+        throw Error("algorithm '" + o.algorithm + "' is not implemented yet (available: el)");
+    // Check the output's format before the render, not after it.
+    std::string ext = fs::path(o.output).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".exr" && ext != ".hdr" && ext != ".pfm" && ext != ".png" && ext != ".jpg" && ext != ".jpeg")
+        throw Error(o.output + ": unsupported output format (use .exr, .hdr, .pfm, .png or .jpg)");
+
+    auto setupStart = std::chrono::steady_clock::now();
+    std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
+    Scene scene = loadGltf(scenePath);
+    for (const std::string& w : scene.warnings) std::fprintf(stderr, "wavevcm: warning: %s\n", w.c_str());
+    resolution(o, scene, &settings.width, &settings.height);
+    settings.maxPathLength = o.maxPathLength;
+    settings.seed = o.seed;
+    settings.wavefront = o.wavefront;
+
+    Bvh bvh = buildBvh(scene.vertices);
+    std::vector<DeviceInfo> devices = enumerateDevices();
+    DeviceContext device(selectDevice(devices, o.device));
+    Renderer renderer(device, scene, bvh, settings);
+    double setupSeconds = since(setupStart);
+    if (!o.quiet)
+        std::fprintf(stderr, "wavevcm: %s, %zu triangles, %dx%d, %s on %s (%s); setup %.2f s (kernels %.2f s%s)\n",
+                     scenePath.c_str(), scene.triangleCount(), settings.width, settings.height, o.algorithm.c_str(),
+                     device.info.name.c_str(), device.info.platformName.c_str(), setupSeconds,
+                     renderer.programBuild().seconds, renderer.programBuild().fromCache ? ", cached" : "");
+
+    int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
+    auto renderStart = std::chrono::steady_clock::now();
+    do {
+        renderer.enqueueIteration();
+        // One wait per iteration: the time budget needs to know when it ends,
+        // and it costs ~70 µs against iterations of milliseconds or more.
+        renderer.finish();
+    } while ((spp == 0 || renderer.iterations() < spp) && (o.seconds == 0 || since(renderStart) < o.seconds));
+    double renderSeconds = since(renderStart);
+
+    Image image = renderer.image();
+    uint64_t nonFinite = renderer.nonFiniteCount();
+    writeImage(o.output, image);
+    double samplesPerSecond = double(settings.width) * settings.height * renderer.iterations() / renderSeconds;
+    if (!o.quiet)
+        std::fprintf(stderr, "wavevcm: %d iterations in %.2f s (%.3g samples/s) -> %s\n", renderer.iterations(),
+                     renderSeconds, samplesPerSecond, o.output.c_str());
+    if (nonFinite > 0)
+        std::fprintf(stderr, "wavevcm: warning: %llu samples were NaN or Inf and were dropped\n",
+                     static_cast<unsigned long long>(nonFinite));
+
+    if (!o.statsFile.empty()) {
+        nlohmann::json stats = {
+            {"scene", scenePath},
+            {"device", device.info.name},
+            {"platform", device.info.platformName},
+            {"algorithm", o.algorithm},
+            {"width", settings.width},
+            {"height", settings.height},
+            {"iterations", renderer.iterations()},
+            {"render_seconds", renderSeconds},
+            {"setup_seconds", setupSeconds},
+            {"samples_per_second", samplesPerSecond},
+            {"nan_count", nonFinite},
+            {"triangles", scene.triangleCount()},
+            {"bvh_nodes", bvh.nodes.size()},
+            {"bvh_depth", bvh.depth},
+            {"bvh_build_seconds", bvh.buildSeconds},
+            {"kernel_build_seconds", renderer.programBuild().seconds},
+            {"kernel_cache_hit", renderer.programBuild().fromCache},
+            {"wavefront", renderer.wavefront()},
+            {"device_bytes", renderer.deviceBytes()},
+        };
+        std::ofstream out(o.statsFile);
+        out << stats.dump(2) << "\n";
+        if (!out) throw Error(o.statsFile + ": cannot write");
+    }
+    return 0;
+}
+
+} // namespace wv

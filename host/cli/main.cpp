@@ -1,0 +1,59 @@
+// wavevcm: the command line. Parses arguments with CLI11 and dispatches to
+// the subcommands; every wv::Error ends here as one message on stderr.
+#include "../Error.h"
+#include "../cl/OpenCL.h"
+#include "Commands.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+int main(int argc, char** argv)
+{
+    CLI::App app{"wavevcm: vertex connection and merging, and the techniques it unifies, on any OpenCL device"};
+    app.require_subcommand(1);
+
+    wv::RenderOptions r;
+    CLI::App* render = app.add_subcommand("render", "render a glTF scene to an image");
+    render->add_option("scene", r.scene, "scene file (.gltf or .glb); default: scenes/cornell-box.gltf");
+    render->add_option("-o,--output", r.output, "output image: .exr, .hdr, .pfm (float) or .png/.jpg (8-bit sRGB)")
+        ->capture_default_str();
+    render->add_option("-a,--algorithm", r.algorithm, "el | pt | lt | bpt | ppm | bpm | vcm")->capture_default_str();
+    render->add_option("-n,--spp", r.spp, "iterations (one jittered camera sample per pixel each); default 16");
+    render->add_option("-t,--time", r.seconds, "wall-clock budget in seconds: whole iterations until it is spent");
+    render->add_option("-d,--device", r.device, "device index from `wavevcm devices`, or a substring of its name");
+    render->add_option("--width", r.width, "image width (default: from the camera's aspect ratio)");
+    render->add_option("--height", r.height, "image height (default 512)");
+    render->add_option("--max-path-length", r.maxPathLength, "segments of a full path, camera segment included")
+        ->capture_default_str();
+    render->add_option("--seed", r.seed, "random seed")->capture_default_str();
+    render->add_option("--wavefront", r.wavefront, "path slots per wavefront (default: by device type)");
+    render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
+    render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
+
+    app.add_subcommand("devices", "list every OpenCL platform and device");
+
+    std::string test, reference;
+    double maxRelMse = -1;
+    CLI::App* compare = app.add_subcommand("compare", "error metrics of TEST against REF (RMSE, relMSE, mean ratio)");
+    compare->add_option("test", test, "image to test")->required();
+    compare->add_option("reference", reference, "reference image")->required();
+    compare->add_option("--max-relmse", maxRelMse, "exit with status 1 if relMSE exceeds this");
+
+    CLI11_PARSE(app, argc, argv);
+
+    try {
+        if (render->parsed()) return wv::runRender(r);
+        if (compare->parsed()) return wv::runCompare(test, reference, maxRelMse);
+        return wv::runDevices();
+    } catch (const wv::Error& e) {
+        std::cerr << "wavevcm: error: " << e.what() << "\n";
+        return e.exitCode();
+    } catch (const cl::Error& e) {
+        std::cerr << "wavevcm: OpenCL error in " << e.what() << ": " << wv::clErrorName(e.err()) << "\n";
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "wavevcm: error: out of host memory\n";
+        return 1;
+    }
+}

@@ -1,0 +1,93 @@
+#include "Image.h"
+
+#include "../Error.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+namespace wv {
+
+static std::string extensionOf(const std::string& path)
+{
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+void writeImage(const std::string& path, const Image& image)
+{
+    std::string ext = extensionOf(path);
+    bool eightBit = ext == ".png" || ext == ".jpg" || ext == ".jpeg";
+    bool floatFormat = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+    if (!eightBit && !floatFormat)
+        throw Error(path + ": unsupported output format '" + ext + "' (use .exr, .hdr, .pfm, .png or .jpg)");
+
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
+    OIIO::ImageBuf buf(spec, const_cast<float*>(image.rgb.data()));
+    OIIO::ImageBuf out = buf;
+    if (eightBit) {
+        // Clamp to [0, 1] first; the sRGB curve is applied by OpenImageIO.
+        out = OIIO::ImageBufAlgo::clamp(buf, 0.0f, 1.0f);
+        out = OIIO::ImageBufAlgo::colorconvert(out, "linear", "sRGB");
+        if (out.has_error()) throw Error(path + ": colour conversion failed: " + out.geterror());
+    }
+    std::filesystem::path tmp = std::filesystem::path(path).parent_path() /
+                                ("." + std::filesystem::path(path).filename().string() + ".partial" +
+                                 std::to_string(::getpid()));
+    std::string format = ext.substr(1) == "jpg" ? "jpeg" : ext.substr(1);
+    if (format == "pfm") format = "pnm";
+    if (!out.write(tmp.string(), eightBit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT, format)) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw Error(path + ": cannot write image: " + out.geterror());
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw Error(path + ": cannot write image: " + ec.message());
+    }
+}
+
+Image readImage(const std::string& path)
+{
+    if (!std::filesystem::exists(path)) throw Error(path + ": no such file");
+    OIIO::ImageBuf buf(path);
+    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw Error(path + ": cannot read image: " + buf.geterror());
+    const OIIO::ImageSpec& spec = buf.spec();
+    Image image(spec.width, spec.height);
+    int channels = spec.nchannels;
+    std::vector<float> pixels(size_t(spec.width) * spec.height * channels);
+    if (!buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw Error(path + ": cannot read image: " + buf.geterror());
+    for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
+        for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = pixels[p * channels + std::min(c, channels - 1)];
+    return image;
+}
+
+ImageDifference compareImages(const Image& test, const Image& reference)
+{
+    if (test.width != reference.width || test.height != reference.height)
+        throw Error("image sizes differ: " + std::to_string(test.width) + "x" + std::to_string(test.height) +
+                    " vs " + std::to_string(reference.width) + "x" + std::to_string(reference.height));
+    double se = 0, rel = 0, sumTest = 0, sumRef = 0;
+    size_t n = test.rgb.size();
+    for (size_t i = 0; i < n; ++i) {
+        double t = test.rgb[i], r = reference.rgb[i], d = t - r;
+        se += d * d;
+        rel += d * d / (r * r + 0.01);
+        sumTest += t;
+        sumRef += r;
+    }
+    ImageDifference out;
+    out.rmse = std::sqrt(se / double(n));
+    out.relMse = rel / double(n);
+    out.meanRatio = sumRef > 0 ? sumTest / sumRef : (sumTest == 0 ? 1.0 : INFINITY);
+    return out;
+}
+
+} // namespace wv

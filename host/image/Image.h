@@ -1,0 +1,35 @@
+// RGB float images: reading and writing through OpenImageIO, and the error
+// metrics of `wavevcm compare`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace wv {
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<float> rgb; // width × height × 3, row 0 at the top, linear radiance
+
+    Image() = default;
+    Image(int w, int h) : width(w), height(h), rgb(size_t(w) * size_t(h) * 3, 0.0f) {}
+};
+
+// By extension: .exr (32-bit float, linear), .hdr, .pfm (float), .png/.jpg
+// (8-bit, sRGB-encoded). Written to a temporary name beside `path` and renamed,
+// so a failed or interrupted write never leaves a partial file.
+void writeImage(const std::string& path, const Image& image);
+
+// Any format OpenImageIO reads; the first three channels (grey is replicated).
+Image readImage(const std::string& path);
+
+struct ImageDifference {
+    double rmse = 0;      // sqrt(mean over pixels and channels of (t − r)²)
+    double relMse = 0;    // mean of (t − r)² / (r² + 0.01), per channel
+    double meanRatio = 0; // mean(test) / mean(reference)
+};
+
+// Throws wv::Error if the sizes differ.
+ImageDifference compareImages(const Image& test, const Image& reference);
+
+} // namespace wv

@@ -1,0 +1,76 @@
+#include "SceneBuffers.h"
+
+#include "../Error.h"
+
+#include <array>
+
+namespace wv {
+
+static std::string megabytes(size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
+
+static void checkAllocation(const DeviceContext& device, size_t bytes, const std::string& what)
+{
+    if (bytes > device.info.maxAllocation)
+        throw Error(what + " needs " + megabytes(bytes) + " but " + device.info.name + " allows at most " +
+                    megabytes(device.info.maxAllocation) + " per buffer");
+}
+
+cl::Buffer deviceBuffer(DeviceContext& device, size_t bytes, const std::string& what)
+{
+    checkAllocation(device, bytes, what);
+    try {
+        return cl::Buffer(device.context, CL_MEM_READ_WRITE, std::max<size_t>(bytes, 16));
+    } catch (const cl::Error& e) {
+        throw Error("cannot allocate " + what + " (" + megabytes(bytes) + ") on " + device.info.name + ": " +
+                    clErrorName(e.err()));
+    }
+}
+
+cl::Buffer uploadBuffer(DeviceContext& device, const void* data, size_t bytes, const std::string& what)
+{
+    checkAllocation(device, bytes, what);
+    try {
+        return cl::Buffer(device.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(data));
+    } catch (const cl::Error& e) {
+        throw Error("cannot allocate " + what + " (" + megabytes(bytes) + ") on " + device.info.name + ": " +
+                    clErrorName(e.err()));
+    }
+}
+
+SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh& bvh)
+{
+    size_t count = bvh.triangleOrder.size();
+    std::vector<std::array<float, 4>> vertices(3 * count), normals(scene.normals.empty() ? 1 : 3 * count);
+    std::vector<int> triMaterial(count);
+    for (size_t i = 0; i < count; ++i) {
+        uint32_t t = bvh.triangleOrder[i];
+        triMaterial[i] = scene.triangleMaterial[t];
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& v = scene.vertices[3 * t + k];
+            vertices[3 * i + k] = {v.x, v.y, v.z, 0.0f};
+            if (!scene.normals.empty()) {
+                const Vec3& n = scene.normals[3 * t + k];
+                normals[3 * i + k] = {n.x, n.y, n.z, 0.0f};
+            }
+        }
+    }
+    std::vector<PunctualLight> lightData = scene.lights;
+    if (lightData.empty()) lightData.push_back(PunctualLight{}); // OpenCL buffers cannot be empty
+
+    auto upload = [&](const auto& v, const char* what) {
+        size_t b = v.size() * sizeof(v[0]);
+        bytes += b;
+        return uploadBuffer(device, v.data(), b, what);
+    };
+    nodes = upload(bvh.nodes, "the BVH");
+    triVertices = upload(vertices, "the triangle vertices");
+    triNormals = upload(normals, "the vertex normals");
+    triMaterials = upload(triMaterial, "the triangle materials");
+    materials = upload(scene.materials, "the materials");
+    lights = upload(lightData, "the lights");
+    if (bytes > device.info.globalMemory)
+        throw Error("the scene needs " + megabytes(bytes) + " but " + device.info.name + " has " +
+                    megabytes(device.info.globalMemory));
+}
+
+} // namespace wv

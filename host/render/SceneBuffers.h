@@ -1,0 +1,31 @@
+// The scene on the device: BVH nodes and BVH-ordered triangle data, uploaded
+// once per render.
+#pragma once
+
+#include "../bvh/Bvh.h"
+#include "../cl/DeviceContext.h"
+#include "../scene/Scene.h"
+
+namespace wv {
+
+struct SceneBuffers {
+    cl::Buffer nodes;            // BvhNode[]
+    cl::Buffer triVertices;      // float4[3 · triangles], BVH order
+    cl::Buffer triNormals;       // float4[3 · triangles] with vertex normals, else 1 float4
+    cl::Buffer triMaterials;     // int[triangles]
+    cl::Buffer materials;        // Material[]
+    cl::Buffer lights;           // PunctualLight[] (at least one element)
+    size_t bytes = 0;
+
+    // Throws wv::Error naming the device if a buffer exceeds its limits.
+    SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh& bvh);
+};
+
+// A read-only device buffer holding `bytes` bytes copied from `data`; checks
+// the device's maximum allocation first. `what` names it in the error.
+cl::Buffer uploadBuffer(DeviceContext& device, const void* data, size_t bytes, const std::string& what);
+
+// A device buffer of `bytes` bytes, checked against the device's limits.
+cl::Buffer deviceBuffer(DeviceContext& device, size_t bytes, const std::string& what);
+
+} // namespace wv

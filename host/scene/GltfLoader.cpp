@@ -1,0 +1,554 @@
+#include "GltfLoader.h"
+
+#include "../Error.h"
+
+#include <tiny_gltf.h>
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <set>
+
+namespace wv {
+namespace {
+
+using Mat4 = std::array<double, 16>; // column-major, as glTF stores matrices
+
+Mat4 identity() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; }
+
+Mat4 multiply(const Mat4& a, const Mat4& b)
+{
+    Mat4 r{};
+    for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row)
+            for (int k = 0; k < 4; ++k) r[c * 4 + row] += a[k * 4 + row] * b[c * 4 + k];
+    return r;
+}
+
+Vec3 transformPoint(const Mat4& m, Vec3 p)
+{
+    return {float(m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12]),
+            float(m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13]),
+            float(m[2] * p.x + m[6] * p.y + m[10] * p.z + m[14])};
+}
+
+Vec3 transformVector(const Mat4& m, Vec3 v)
+{
+    return {float(m[0] * v.x + m[4] * v.y + m[8] * v.z), float(m[1] * v.x + m[5] * v.y + m[9] * v.z),
+            float(m[2] * v.x + m[6] * v.y + m[10] * v.z)};
+}
+
+// Normals transform with the inverse transpose; the cofactor matrix is that
+// up to a positive or negative scale, which normalisation and the sign of the
+// determinant take care of.
+Vec3 transformNormal(const Mat4& m, Vec3 n)
+{
+    Vec3 c0{float(m[0]), float(m[1]), float(m[2])}, c1{float(m[4]), float(m[5]), float(m[6])},
+        c2{float(m[8]), float(m[9]), float(m[10])};
+    Vec3 r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);
+    float det = dot(c0, r0);
+    Vec3 out = r0 * n.x + r1 * n.y + r2 * n.z;
+    return det < 0 ? -out : out;
+}
+
+double determinant3(const Mat4& m)
+{
+    Vec3 c0{float(m[0]), float(m[1]), float(m[2])}, c1{float(m[4]), float(m[5]), float(m[6])},
+        c2{float(m[8]), float(m[9]), float(m[10])};
+    return dot(c0, cross(c1, c2));
+}
+
+// The node's local transform: its matrix, or T · R · S.
+Mat4 localTransform(const tinygltf::Node& node)
+{
+    if (node.matrix.size() == 16) {
+        Mat4 m;
+        std::copy(node.matrix.begin(), node.matrix.end(), m.begin());
+        return m;
+    }
+    Mat4 t = identity(), r = identity(), s = identity();
+    if (node.translation.size() == 3)
+        for (int i = 0; i < 3; ++i) t[12 + i] = node.translation[i];
+    if (node.rotation.size() == 4) {
+        double x = node.rotation[0], y = node.rotation[1], z = node.rotation[2], w = node.rotation[3];
+        r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w), 0,
+             2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w), 0,
+             2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y), 0,
+             0, 0, 0, 1};
+    }
+    if (node.scale.size() == 3)
+        for (int i = 0; i < 3; ++i) s[i * 5] = node.scale[i];
+    return multiply(t, multiply(r, s));
+}
+
+class Loader {
+public:
+    Loader(const std::string& path, Scene& scene) : path_(path), scene_(scene) {}
+
+    void load();
+
+private:
+    [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
+    void warn(const std::string& what) { scene_.warnings.push_back(path_ + ": " + what); }
+    void warnOnce(const std::string& what)
+    {
+        if (warned_.insert(what).second) warn(what);
+    }
+
+    void checkExtensions();
+    void loadMaterials();
+    Material convertMaterial(const tinygltf::Material& m, int index);
+    void visitNodes();
+    void addMesh(int meshIndex, const Mat4& world, const std::string& nodeName);
+    void addCamera(int cameraIndex, const Mat4& world);
+    void addLight(const tinygltf::Value& ext, const Mat4& world, const std::string& nodeName);
+    void loadBackground();
+
+    // Reads `count` elements of an accessor as floats (VEC3) or indices.
+    std::vector<Vec3> readVec3(int accessorIndex, const std::string& what);
+    std::vector<uint32_t> readIndices(int accessorIndex);
+    const unsigned char* accessorData(const tinygltf::Accessor& a, size_t elementSize,
+                                      size_t* stride, const std::string& what);
+
+    std::string path_;
+    Scene& scene_;
+    tinygltf::Model model_;
+    std::set<std::string> warned_;
+    int defaultMaterial_ = -1;
+};
+
+// Images are not decoded yet (textures are reported and their factors used);
+// this callback keeps tinygltf from decoding or failing on them.
+bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+               const unsigned char*, int, void*)
+{
+    return true;
+}
+
+void Loader::load()
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::exists(path_, ec)) throw Error(path_ + ": no such file");
+    if (!fs::is_regular_file(path_, ec)) throw Error(path_ + ": not a regular file");
+
+    tinygltf::TinyGLTF gltf;
+    gltf.SetImageLoader(skipImage, nullptr);
+    std::string err, warn;
+    std::string ext = fs::path(path_).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    bool ok = false;
+    try {
+        ok = ext == ".glb" ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_)
+                           : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
+    } catch (const std::exception& e) {
+        fail(std::string("cannot parse glTF: ") + e.what());
+    }
+    if (!ok || !err.empty()) {
+        while (!err.empty() && err.back() == '\n') err.pop_back();
+        fail("cannot parse glTF: " + (err.empty() ? std::string("unknown error") : err));
+    }
+    if (!warn.empty()) {
+        while (!warn.empty() && warn.back() == '\n') warn.pop_back();
+        this->warn("tinygltf: " + warn);
+    }
+    checkExtensions();
+    loadMaterials();
+    visitNodes();
+    loadBackground();
+    if (scene_.triangleCount() == 0) fail("the scene has no triangles");
+}
+
+const std::set<std::string>& supportedExtensions()
+{
+    static const std::set<std::string> s{
+        "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_transmission",
+        "KHR_materials_ior", "KHR_materials_volume", "KHR_lights_punctual"};
+    return s;
+}
+
+void Loader::checkExtensions()
+{
+    for (const std::string& e : model_.extensionsRequired)
+        if (!supportedExtensions().count(e)) fail("required extension " + e + " is not supported");
+    for (const std::string& e : model_.extensionsUsed)
+        if (!supportedExtensions().count(e)) warn("extension " + e + " is not supported and is ignored");
+}
+
+double number(const tinygltf::Value& v, const char* key, double fallback)
+{
+    if (!v.IsObject() || !v.Has(key)) return fallback;
+    const tinygltf::Value& x = v.Get(key);
+    return x.IsNumber() ? x.GetNumberAsDouble() : fallback;
+}
+
+const tinygltf::Value* extension(const tinygltf::ExtensionMap& map, const char* name)
+{
+    auto it = map.find(name);
+    return it == map.end() ? nullptr : &it->second;
+}
+
+void Loader::loadMaterials()
+{
+    for (size_t i = 0; i < model_.materials.size(); ++i)
+        scene_.materials.push_back(convertMaterial(model_.materials[i], int(i)));
+}
+
+float clamp01(double x) { return float(std::min(1.0, std::max(0.0, x))); }
+
+Material Loader::convertMaterial(const tinygltf::Material& m, int index)
+{
+    std::string name = "material " + std::to_string(index) + (m.name.empty() ? "" : " '" + m.name + "'");
+    const auto& pbr = m.pbrMetallicRoughness;
+    Material out{};
+    for (int c = 0; c < 3; ++c) {
+        out.baseColor[c] = clamp01(pbr.baseColorFactor.size() == 4 ? pbr.baseColorFactor[c] : 1.0);
+        out.emission[c] = float(std::max(0.0, m.emissiveFactor.size() == 3 ? m.emissiveFactor[c] : 0.0));
+        out.specularColor[c] = 1.0f;
+    }
+    out.metallic = clamp01(pbr.metallicFactor);
+    out.roughness = clamp01(pbr.roughnessFactor);
+    out.specular = 1.0f;
+    out.ior = 1.5f;
+    out.thinWalled = 1;
+
+    if (pbr.baseColorTexture.index >= 0)
+        warnOnce(name + ": base-color textures are not supported yet; baseColorFactor is used");
+    if (pbr.metallicRoughnessTexture.index >= 0 || m.normalTexture.index >= 0 ||
+        m.emissiveTexture.index >= 0 || m.occlusionTexture.index >= 0)
+        warnOnce(name + ": metallic-roughness, normal, emissive and occlusion textures are ignored");
+    if (m.alphaMode != "OPAQUE" && !m.alphaMode.empty())
+        warnOnce(name + ": alphaMode " + m.alphaMode + " is not supported; the surface is opaque");
+
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_emissive_strength")) {
+        double strength = std::max(0.0, number(*e, "emissiveStrength", 1.0));
+        for (float& c : out.emission) c *= float(strength);
+    }
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_specular")) {
+        out.specular = clamp01(number(*e, "specularFactor", 1.0));
+        if (e->Has("specularColorFactor") && e->Get("specularColorFactor").IsArray() &&
+            e->Get("specularColorFactor").ArrayLen() == 3)
+            for (int c = 0; c < 3; ++c)
+                out.specularColor[c] = float(std::max(0.0, e->Get("specularColorFactor").Get(c).GetNumberAsDouble()));
+    }
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_ior")) {
+        double ior = number(*e, "ior", 1.5);
+        if (!(ior >= 1.0) || !std::isfinite(ior)) fail(name + ": KHR_materials_ior ior must be >= 1, got " + std::to_string(ior));
+        out.ior = float(ior);
+    }
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_transmission"))
+        out.transmission = clamp01(number(*e, "transmissionFactor", 0.0));
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_volume")) {
+        out.thinWalled = number(*e, "thicknessFactor", 0.0) > 0.0 ? 0 : 1;
+        out.attenuationDistance = float(std::max(0.0, number(*e, "attenuationDistance", 0.0)));
+        for (int c = 0; c < 3; ++c) out.attenuationColor[c] = 1.0f;
+        if (e->Has("attenuationColor") && e->Get("attenuationColor").IsArray() &&
+            e->Get("attenuationColor").ArrayLen() == 3)
+            for (int c = 0; c < 3; ++c)
+                out.attenuationColor[c] = clamp01(e->Get("attenuationColor").Get(c).GetNumberAsDouble());
+    }
+
+    // Lobes (docs/scenes.md): a GGX alpha = roughness² below 1e-3 is treated as
+    // perfectly smooth, where a microfacet lobe would be numerically useless.
+    bool smooth = out.roughness * out.roughness < 1e-3f;
+    auto maxOf = [](const float c[3]) { return std::max(c[0], std::max(c[1], c[2])); };
+    float dielectric = 1.0f - out.metallic;
+    bool diffuse = dielectric * (1.0f - out.transmission) > 0 && maxOf(out.baseColor) > 0;
+    bool metalReflects = out.metallic > 0 && maxOf(out.baseColor) > 0;
+    bool dielectricReflects = dielectric > 0 && out.ior != 1.0f &&
+                              ((out.specular > 0 && maxOf(out.specularColor) > 0) || out.transmission > 0);
+    bool transmits = dielectric * out.transmission > 0;
+    if (diffuse) out.lobes |= LOBE_DIFFUSE;
+    if (metalReflects || dielectricReflects) out.lobes |= smooth ? LOBE_DELTA_REFLECTION : LOBE_GGX_REFLECTION;
+    if (transmits) out.lobes |= smooth ? LOBE_DELTA_TRANSMISSION : LOBE_GGX_TRANSMISSION;
+    return out;
+}
+
+void Loader::visitNodes()
+{
+    int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+    std::vector<int> roots;
+    if (model_.scenes.empty()) {
+        warn("no scene object; every root node is used");
+        std::vector<bool> isChild(model_.nodes.size(), false);
+        for (const auto& n : model_.nodes)
+            for (int c : n.children)
+                if (c >= 0 && size_t(c) < isChild.size()) isChild[c] = true;
+        for (size_t i = 0; i < model_.nodes.size(); ++i)
+            if (!isChild[i]) roots.push_back(int(i));
+    } else {
+        if (size_t(sceneIndex) >= model_.scenes.size()) fail("default scene index out of range");
+        roots = model_.scenes[sceneIndex].nodes;
+    }
+
+    // Depth-first with an explicit stack: a very deep hierarchy cannot
+    // overflow the call stack, and a node reached twice (a cycle or a shared
+    // child, both invalid glTF) is an error rather than an endless loop.
+    std::vector<bool> visited(model_.nodes.size(), false);
+    std::vector<std::pair<int, Mat4>> stack;
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, identity()});
+    while (!stack.empty()) {
+        auto [index, parent] = stack.back();
+        stack.pop_back();
+        if (index < 0 || size_t(index) >= model_.nodes.size())
+            fail("node index " + std::to_string(index) + " out of range");
+        if (visited[index]) fail("node " + std::to_string(index) + " is reached twice (cycle or shared child)");
+        visited[index] = true;
+        const tinygltf::Node& node = model_.nodes[index];
+        if ((node.matrix.size() != 0 && node.matrix.size() != 16) ||
+            (node.translation.size() != 0 && node.translation.size() != 3) ||
+            (node.rotation.size() != 0 && node.rotation.size() != 4) ||
+            (node.scale.size() != 0 && node.scale.size() != 3))
+            fail("node " + std::to_string(index) + " has a malformed transform");
+        Mat4 world = multiply(parent, localTransform(node));
+        for (double v : world)
+            if (!std::isfinite(v)) fail("node " + std::to_string(index) + " has a non-finite transform");
+        std::string nodeName = "node " + std::to_string(index) + (node.name.empty() ? "" : " '" + node.name + "'");
+        if (node.mesh >= 0) addMesh(node.mesh, world, nodeName);
+        if (node.camera >= 0) addCamera(node.camera, world);
+        if (const tinygltf::Value* e = extension(node.extensions, "KHR_lights_punctual"))
+            addLight(*e, world, nodeName);
+        if (node.skin >= 0) warnOnce("skins are not supported; meshes are used in their bind pose");
+        for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});
+    }
+}
+
+const unsigned char* Loader::accessorData(const tinygltf::Accessor& a, size_t elementSize,
+                                          size_t* stride, const std::string& what)
+{
+    if (a.sparse.isSparse) fail(what + ": sparse accessors are not supported");
+    if (a.bufferView < 0 || size_t(a.bufferView) >= model_.bufferViews.size())
+        fail(what + ": accessor has no valid bufferView");
+    const tinygltf::BufferView& view = model_.bufferViews[a.bufferView];
+    if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size())
+        fail(what + ": bufferView " + std::to_string(a.bufferView) + " has no valid buffer");
+    const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
+    *stride = view.byteStride ? view.byteStride : elementSize;
+    if (*stride < elementSize) fail(what + ": byteStride smaller than the element");
+    // Everything in size_t, with overflow-proof comparisons.
+    size_t viewEnd = view.byteOffset + view.byteLength;
+    if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset)
+        fail(what + ": bufferView " + std::to_string(a.bufferView) + " extends past the end of buffer " +
+             std::to_string(view.buffer) + " (" + std::to_string(viewEnd) + " > " +
+             std::to_string(buffer.data.size()) + " bytes)");
+    if (a.count == 0) return buffer.data.data() + view.byteOffset;
+    size_t need = a.byteOffset;
+    if (a.count - 1 > (SIZE_MAX - need - elementSize) / *stride) fail(what + ": accessor size overflows");
+    need += (a.count - 1) * *stride + elementSize;
+    if (need > view.byteLength)
+        fail(what + ": accessor needs " + std::to_string(need) + " bytes but bufferView " +
+             std::to_string(a.bufferView) + " has " + std::to_string(view.byteLength));
+    return buffer.data.data() + view.byteOffset + a.byteOffset;
+}
+
+std::vector<Vec3> Loader::readVec3(int accessorIndex, const std::string& what)
+{
+    if (accessorIndex < 0 || size_t(accessorIndex) >= model_.accessors.size())
+        fail(what + ": accessor index " + std::to_string(accessorIndex) + " out of range");
+    const tinygltf::Accessor& a = model_.accessors[accessorIndex];
+    if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+        fail(what + ": expected a VEC3 of floats");
+    size_t stride;
+    const unsigned char* data = accessorData(a, 12, &stride, what);
+    std::vector<Vec3> out(a.count);
+    for (size_t i = 0; i < a.count; ++i) std::memcpy(&out[i], data + i * stride, 12);
+    return out;
+}
+
+std::vector<uint32_t> Loader::readIndices(int accessorIndex)
+{
+    const std::string what = "indices";
+    if (size_t(accessorIndex) >= model_.accessors.size())
+        fail("indices: accessor index " + std::to_string(accessorIndex) + " out of range");
+    const tinygltf::Accessor& a = model_.accessors[accessorIndex];
+    size_t size = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                  : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                  : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                              : 0;
+    if (a.type != TINYGLTF_TYPE_SCALAR || size == 0) fail("indices: expected unsigned scalars");
+    size_t stride;
+    const unsigned char* data = accessorData(a, size, &stride, what);
+    std::vector<uint32_t> out(a.count);
+    for (size_t i = 0; i < a.count; ++i) {
+        const unsigned char* p = data + i * stride;
+        if (size == 1) out[i] = p[0];
+        else if (size == 2) { uint16_t v; std::memcpy(&v, p, 2); out[i] = v; }
+        else std::memcpy(&out[i], p, 4);
+    }
+    return out;
+}
+
+int glTFDefaultMaterial(Scene& scene)
+{
+    // glTF's default material: base colour 1, metallic 1, roughness 1.
+    Material m{};
+    for (int c = 0; c < 3; ++c) { m.baseColor[c] = 1; m.specularColor[c] = 1; }
+    m.metallic = 1;
+    m.roughness = 1;
+    m.specular = 1;
+    m.ior = 1.5f;
+    m.thinWalled = 1;
+    m.lobes = LOBE_GGX_REFLECTION;
+    scene.materials.push_back(m);
+    return int(scene.materials.size()) - 1;
+}
+
+void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeName)
+{
+    if (size_t(meshIndex) >= model_.meshes.size())
+        fail(nodeName + ": mesh index " + std::to_string(meshIndex) + " out of range");
+    const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
+    if (determinant3(world) == 0.0) {
+        warn(nodeName + ": zero-scale transform; its mesh is skipped");
+        return;
+    }
+    static const char* modeNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP", "TRIANGLES",
+                                      "TRIANGLE_STRIP", "TRIANGLE_FAN"};
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+        const tinygltf::Primitive& prim = mesh.primitives[p];
+        std::string what = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
+        if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) {
+            std::string mode = prim.mode >= 0 && prim.mode <= 6 ? modeNames[prim.mode] : std::to_string(prim.mode);
+            fail(what + ": primitive mode " + mode + " is not supported (only TRIANGLES)");
+        }
+        if (!prim.targets.empty()) warnOnce("morph targets are not supported; base geometry is used");
+        auto pos = prim.attributes.find("POSITION");
+        if (pos == prim.attributes.end()) fail(what + ": no POSITION attribute");
+        std::vector<Vec3> positions = readVec3(pos->second, what + " POSITION");
+        for (const Vec3& v : positions)
+            if (!isFinite(v)) fail(what + ": POSITION contains NaN or Inf");
+        std::vector<Vec3> normals;
+        auto nrm = prim.attributes.find("NORMAL");
+        if (nrm != prim.attributes.end()) {
+            normals = readVec3(nrm->second, what + " NORMAL");
+            if (normals.size() != positions.size()) fail(what + ": NORMAL and POSITION counts differ");
+        }
+        std::vector<uint32_t> indices;
+        if (prim.indices >= 0) {
+            indices = readIndices(prim.indices);
+            for (uint32_t i : indices)
+                if (i >= positions.size())
+                    fail(what + ": index " + std::to_string(i) + " out of range (" +
+                         std::to_string(positions.size()) + " vertices)");
+        } else {
+            indices.resize(positions.size());
+            for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
+        }
+        if (indices.size() % 3 != 0) fail(what + ": index count is not a multiple of 3");
+
+        int material = prim.material;
+        if (material >= int(scene_.materials.size()) || (material >= 0 && size_t(material) >= model_.materials.size()))
+            fail(what + ": material index " + std::to_string(material) + " out of range");
+        if (material < 0) {
+            if (defaultMaterial_ < 0) defaultMaterial_ = glTFDefaultMaterial(scene_);
+            material = defaultMaterial_;
+        }
+
+        // Normals exist for every triangle once any primitive has them.
+        bool hadNormals = !scene_.normals.empty();
+        if (!normals.empty() && !hadNormals && !scene_.vertices.empty()) {
+            for (size_t t = 0; t < scene_.vertices.size(); t += 3) {
+                Vec3 n = normalize(cross(scene_.vertices[t + 1] - scene_.vertices[t], scene_.vertices[t + 2] - scene_.vertices[t]));
+                for (int k = 0; k < 3; ++k) scene_.normals.push_back(n);
+            }
+        }
+        bool wantNormals = !normals.empty() || hadNormals;
+        for (size_t i = 0; i < indices.size(); i += 3) {
+            Vec3 v[3];
+            for (int k = 0; k < 3; ++k) v[k] = transformPoint(world, positions[indices[i + k]]);
+            for (int k = 0; k < 3; ++k) scene_.vertices.push_back(v[k]);
+            scene_.triangleMaterial.push_back(material);
+            if (!wantNormals) continue;
+            Vec3 geometric = cross(v[1] - v[0], v[2] - v[0]);
+            for (int k = 0; k < 3; ++k) {
+                Vec3 n = normals.empty() ? geometric : transformNormal(world, normals[indices[i + k]]);
+                float len = length(n);
+                scene_.normals.push_back(len > 0 && std::isfinite(len) ? n * (1.0f / len) : Vec3(0, 0, 0));
+            }
+        }
+    }
+}
+
+void Loader::addCamera(int cameraIndex, const Mat4& world)
+{
+    if (size_t(cameraIndex) >= model_.cameras.size())
+        fail("camera index " + std::to_string(cameraIndex) + " out of range");
+    const tinygltf::Camera& cam = model_.cameras[cameraIndex];
+    if (cam.type != "perspective") {
+        warnOnce("camera " + std::to_string(cameraIndex) + " is " + cam.type + "; only perspective cameras are used");
+        return;
+    }
+    if (scene_.cameraFromFile) return; // the first perspective camera wins
+    double yfov = cam.perspective.yfov;
+    if (!(yfov > 0 && yfov < M_PI)) fail("camera " + std::to_string(cameraIndex) + ": yfov must be in (0, pi)");
+    scene_.camera.position = transformPoint(world, {0, 0, 0});
+    scene_.camera.forward = normalize(transformVector(world, {0, 0, -1}));
+    scene_.camera.up = normalize(transformVector(world, {0, 1, 0}));
+    scene_.camera.yfov = float(yfov);
+    scene_.camera.aspectRatio = cam.perspective.aspectRatio > 0 ? float(cam.perspective.aspectRatio) : 0.0f;
+    if (!isFinite(scene_.camera.forward) || !isFinite(scene_.camera.up))
+        fail("camera " + std::to_string(cameraIndex) + ": degenerate node transform");
+    scene_.cameraFromFile = true;
+}
+
+void Loader::addLight(const tinygltf::Value& ext, const Mat4& world, const std::string& nodeName)
+{
+    if (!ext.Has("light") || !ext.Get("light").IsInt()) fail(nodeName + ": KHR_lights_punctual without a light index");
+    int index = ext.Get("light").GetNumberAsInt();
+    if (index < 0 || size_t(index) >= model_.lights.size())
+        fail(nodeName + ": light index " + std::to_string(index) + " out of range");
+    const tinygltf::Light& l = model_.lights[index];
+    PunctualLight out{};
+    if (l.type == "point") out.type = LIGHT_POINT;
+    else if (l.type == "spot") out.type = LIGHT_SPOT;
+    else if (l.type == "directional") out.type = LIGHT_DIRECTIONAL;
+    else fail("light " + std::to_string(index) + ": unknown type '" + l.type + "'");
+    if (l.range > 0) warnOnce("light range is ignored (lights follow the inverse-square law)");
+    Vec3 p = transformPoint(world, {0, 0, 0}), d = normalize(transformVector(world, {0, 0, -1}));
+    if (!isFinite(d)) fail(nodeName + ": degenerate light transform");
+    for (int c = 0; c < 3; ++c) {
+        double color = l.color.size() == 3 ? l.color[c] : 1.0;
+        out.intensity[c] = float(std::max(0.0, color * l.intensity));
+        out.position[c] = p[c];
+        out.direction[c] = d[c];
+    }
+    double outer = l.spot.outerConeAngle, inner = l.spot.innerConeAngle;
+    if (out.type == LIGHT_SPOT && !(0 <= inner && inner < outer && outer <= M_PI / 2))
+        fail("light " + std::to_string(index) + ": spot cone angles must satisfy 0 <= inner < outer <= pi/2");
+    out.cosInnerCone = float(std::cos(inner));
+    out.cosOuterCone = float(std::cos(outer));
+    scene_.lights.push_back(out);
+}
+
+void Loader::loadBackground()
+{
+    if (model_.scenes.empty()) return;
+    int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+    const tinygltf::Value& extras = model_.scenes[sceneIndex].extras;
+    if (!extras.IsObject() || !extras.Has("background")) return;
+    const tinygltf::Value& bg = extras.Get("background");
+    if (!bg.IsArray() || bg.ArrayLen() != 3) fail("scene extras.background must be [r, g, b]");
+    for (int c = 0; c < 3; ++c) {
+        if (!bg.Get(c).IsNumber()) fail("scene extras.background must hold three numbers");
+        double v = bg.Get(c).GetNumberAsDouble();
+        if (!(v >= 0) || !std::isfinite(v)) fail("scene extras.background must be finite and >= 0");
+        scene_.background[c] = float(v);
+    }
+}
+
+} // namespace
+
+Scene loadGltf(const std::string& path)
+{
+    Scene scene;
+    scene.path = path;
+    Loader(path, scene).load();
+    if (!scene.cameraFromFile) {
+        scene.warnings.push_back(path + ": no perspective camera; using a default camera framing the scene");
+        scene.camera = framingCamera(scene.bounds(), 0.0f);
+    }
+    return scene;
+}
+
+} // namespace wv

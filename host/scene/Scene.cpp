@@ -1,0 +1,79 @@
+#include "Scene.h"
+
+#include <cmath>
+
+namespace wv {
+
+Bounds Scene::bounds() const
+{
+    Bounds b;
+    for (const Vec3& v : vertices) b.extend(v);
+    return b;
+}
+
+SceneFeatures Scene::features() const
+{
+    SceneFeatures f;
+    f.vertexNormals = !normals.empty();
+    for (int m : triangleMaterial) {
+        f.lobes |= materials[m].lobes;
+        const float* e = materials[m].emission;
+        if (e[0] > 0 || e[1] > 0 || e[2] > 0) f.emissiveTriangles = true;
+    }
+    for (const PunctualLight& l : lights) {
+        f.pointLights |= l.type == LIGHT_POINT;
+        f.spotLights |= l.type == LIGHT_SPOT;
+        f.directionalLights |= l.type == LIGHT_DIRECTIONAL;
+    }
+    f.background = background.x > 0 || background.y > 0 || background.z > 0;
+    return f;
+}
+
+std::string SceneFeatures::buildOptions() const
+{
+    std::string o;
+    if (vertexNormals) o += " -DHAS_VERTEX_NORMALS";
+    o += " -DSCENE_LOBES=" + std::to_string(lobes) + "u";
+    if (pointLights || spotLights) o += " -DHAS_POINT_LIGHTS"; // spot = point with a cone
+    if (directionalLights) o += " -DHAS_DIRECTIONAL_LIGHTS";
+    if (emissiveTriangles) o += " -DHAS_EMISSIVE_TRIANGLES";
+    if (background) o += " -DHAS_BACKGROUND";
+    return o;
+}
+
+static void store(float dst[3], Vec3 v) { dst[0] = v.x; dst[1] = v.y; dst[2] = v.z; }
+
+Camera makeCamera(const CameraView& view, int width, int height)
+{
+    Vec3 forward = normalize(view.forward);
+    Vec3 right = normalize(cross(forward, view.up));
+    Vec3 up = cross(right, forward);
+    float tanHalf = std::tan(0.5f * view.yfov);
+    float aspect = float(width) / float(height);
+    Camera c{};
+    store(c.position, view.position);
+    store(c.forward, forward);
+    store(c.right, right * (tanHalf * aspect));
+    store(c.up, up * tanHalf);
+    c.width = width;
+    c.height = height;
+    c.imagePlaneArea = 4.0f * tanHalf * tanHalf * aspect;
+    return c;
+}
+
+CameraView framingCamera(const Bounds& bounds, float aspectRatio)
+{
+    CameraView v;
+    Vec3 e = bounds.extent();
+    float radius = 0.5f * length(e);
+    v.yfov = 0.8f;
+    v.aspectRatio = aspectRatio;
+    // Distance at which the bounding sphere fits the vertical field of view.
+    float distance = radius / std::sin(0.5f * v.yfov);
+    v.position = bounds.center() + Vec3(0, 0, distance);
+    v.forward = {0, 0, -1};
+    v.up = {0, 1, 0};
+    return v;
+}
+
+} // namespace wv

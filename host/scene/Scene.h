@@ -1,0 +1,65 @@
+// The scene as the renderer sees it: flat world-space triangles, materials,
+// lights, a camera and the set of features the kernels must be compiled for.
+#pragma once
+
+#include "../../kernels/shared_types.h"
+#include "../Vec3.h"
+
+#include <string>
+#include <vector>
+
+namespace wv {
+
+// Layout checks for the structs shared with the kernels (see shared_types.h).
+static_assert(sizeof(BvhNode) == 32, "BvhNode must be 32 bytes");
+static_assert(sizeof(Camera) == 64, "Camera layout");
+static_assert(sizeof(Material) == 80, "Material layout");
+static_assert(sizeof(PunctualLight) == 48, "PunctualLight layout");
+
+// A camera as the glTF file describes it, before an image size is chosen.
+struct CameraView {
+    Vec3 position{0, 0, 0};
+    Vec3 forward{0, 0, -1};
+    Vec3 up{0, 1, 0};
+    float yfov = 0.7f;        // radians
+    float aspectRatio = 0.0f; // width / height; 0 = not given by the file
+};
+
+// Which kernel code the scene needs; becomes -D options of the kernel build.
+struct SceneFeatures {
+    bool vertexNormals = false;
+    unsigned lobes = 0; // union of Material::lobes
+    bool pointLights = false, spotLights = false, directionalLights = false;
+    bool emissiveTriangles = false;
+    bool background = false;
+
+    std::string buildOptions() const;
+};
+
+struct Scene {
+    std::string path;
+    // Three vertices per triangle, world space.
+    std::vector<Vec3> vertices;
+    // Three per triangle if any primitive has NORMAL (geometric normals fill the
+    // others), empty otherwise.
+    std::vector<Vec3> normals;
+    std::vector<int> triangleMaterial;
+    std::vector<Material> materials;
+    std::vector<PunctualLight> lights;
+    Vec3 background{0, 0, 0}; // uniform background radiance (scene extras.background)
+    CameraView camera;
+    bool cameraFromFile = false;
+    std::vector<std::string> warnings;
+
+    size_t triangleCount() const { return triangleMaterial.size(); }
+    Bounds bounds() const;
+    SceneFeatures features() const;
+};
+
+// The pinhole camera for an image of width × height pixels.
+Camera makeCamera(const CameraView& view, int width, int height);
+
+// A camera looking at the scene's bounds along -z, used when the file has none.
+CameraView framingCamera(const Bounds& bounds, float aspectRatio);
+
+} // namespace wv

@@ -1,0 +1,90 @@
+/* Every struct that crosses the host/device boundary, declared once.
+ *
+ * Included by the host (C++17) and by the kernels (OpenCL C 1.2). Members are
+ * 4-byte scalars or arrays of them (never float3, whose OpenCL alignment is 16),
+ * so both compilers lay the structs out identically; the host static_asserts
+ * the sizes in host/scene/DeviceLayout.cpp. */
+#ifndef WAVEVCM_SHARED_TYPES_H
+#define WAVEVCM_SHARED_TYPES_H
+
+#ifndef __OPENCL_VERSION__
+#include <cstdint>
+namespace wv {
+typedef uint32_t uint;
+typedef uint16_t ushort;
+#endif
+
+/* One node of the flattened BVH, 32 bytes, stored depth-first: an interior
+ * node's first child is the next node, its second child is at `offset`.
+ * A leaf (primCount > 0) holds triangles [offset, offset + primCount) of the
+ * BVH-ordered triangle arrays. `axis` is the split axis, used to visit the
+ * nearer child first. */
+typedef struct BvhNode {
+    float lo[3];
+    int offset;
+    float hi[3];
+    ushort primCount;
+    ushort axis;
+} BvhNode;
+
+/* Pinhole camera. A pixel (x, y) with sub-pixel jitter (u, v) maps to the
+ * direction forward + (2(x+u)/W - 1)·right + (1 - 2(y+v)/H)·up; right and up
+ * are scaled by tan(fov/2) so the image plane is at distance 1. Row 0 is the
+ * top of the image. */
+typedef struct Camera {
+    float position[3];
+    float imagePlaneArea; /* area of the image plane at distance 1 (camera importance) */
+    float forward[3];
+    int width;
+    float right[3];
+    int height;
+    float up[3];
+    float pad;
+} Camera;
+
+/* BSDF lobes a material has; kernels evaluate only the lobes present. */
+#define LOBE_DIFFUSE 1u
+#define LOBE_GGX_REFLECTION 2u
+#define LOBE_GGX_TRANSMISSION 4u
+#define LOBE_DELTA_REFLECTION 8u
+#define LOBE_DELTA_TRANSMISSION 16u
+
+/* The glTF metallic-roughness model with KHR_materials_specular,
+ * _transmission, _ior, _volume and _emissive_strength folded in; see
+ * docs/materials.md for the mapping. */
+typedef struct Material {
+    float baseColor[3];
+    float metallic;
+    float emission[3]; /* emitted radiance: emissiveFactor × emissiveStrength */
+    float roughness;   /* perceptual roughness; GGX alpha = roughness² */
+    float specularColor[3];
+    float specular; /* KHR_materials_specular specularFactor */
+    float ior;
+    float transmission;
+    uint lobes;          /* LOBE_* bits */
+    int thinWalled;      /* 1: transmission without refraction (no KHR_materials_volume) */
+    float attenuationColor[3];
+    float attenuationDistance; /* KHR_materials_volume; 0 = no absorption */
+} Material;
+
+#define LIGHT_POINT 0
+#define LIGHT_SPOT 1
+#define LIGHT_DIRECTIONAL 2
+
+/* A KHR_lights_punctual light in world space. Emissive triangles and the
+ * background are lights too but are described by the triangle arrays and the
+ * scene's background radiance. */
+typedef struct PunctualLight {
+    float position[3];
+    int type;
+    float direction[3]; /* unit vector the light points along (spot, directional) */
+    float cosInnerCone;
+    float intensity[3]; /* W/sr for point and spot; irradiance for directional */
+    float cosOuterCone;
+} PunctualLight;
+
+#ifndef __OPENCL_VERSION__
+} /* namespace wv */
+#endif
+
+#endif
