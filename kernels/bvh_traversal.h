@@ -16,27 +16,22 @@ typedef struct Hit {
     float b1, b2; /* barycentric weights of vertices 1 and 2 */
 } Hit;
 
-/* Slab test. The far distance is enlarged by 1 + 2γ(3) (Ize, "Robust BVH Ray
- * Traversal", JCGT 2013) so rounding never culls a box the ray touches,
- * which keeps the watertight triangle test watertight through the tree. */
+/* Slab test. invDir = 1/direction may hold ±∞ for axis-parallel rays; where
+ * the origin then lies exactly on a slab plane, 0·∞ = NaN stands for "inside
+ * the slab on this axis" and is replaced by -∞ (near) or +∞ (far), so rays
+ * along box faces and through edges are not culled. The far distance is
+ * enlarged by 1 + 2γ(3) (Ize, "Robust BVH Ray Traversal", JCGT 2013) so
+ * rounding never culls a box the ray touches, which keeps the watertight
+ * triangle test watertight through the tree. */
 inline bool ray_hits_box(float3 origin, float3 invDir, float3 lo, float3 hi, float tMax)
 {
     float3 t0 = (lo - origin) * invDir, t1 = (hi - origin) * invDir;
+    t0 = select(t0, -invDir, isnan(t0));
+    t1 = select(t1, invDir, isnan(t1));
     float3 tNear = fmin(t0, t1), tFar = fmax(t0, t1);
     float enter = fmax(fmax(tNear.x, tNear.y), fmax(tNear.z, 0.0f));
     float leave = fmin(fmin(tFar.x, tFar.y), fmin(tFar.z, tMax)) * 1.0000004f;
     return enter <= leave;
-}
-
-/* 1/d with zero components replaced by ±1e-30: an axis-parallel ray whose
- * origin lies on a slab plane then gives 0·1e30 = 0 instead of 0·∞ = NaN, so
- * rays through edges and vertices on a box face are not culled. */
-inline float3 safe_reciprocal(float3 d)
-{
-    const float TINY = 1e-30f;
-    return 1.0f / (float3)(d.x == 0.0f ? copysign(TINY, d.x) : d.x,
-                           d.y == 0.0f ? copysign(TINY, d.y) : d.y,
-                           d.z == 0.0f ? copysign(TINY, d.z) : d.z);
 }
 
 inline float3 load_float3(__global const float* p) { return (float3)(p[0], p[1], p[2]); }
@@ -47,7 +42,7 @@ inline bool trace_ray(__global const BvhNode* nodes, __global const float4* triV
                       bool anyHit, Hit* hit)
 {
     ShearedRay sheared = shear_ray(ray);
-    float3 invDir = safe_reciprocal(ray.direction);
+    float3 invDir = 1.0f / ray.direction;
     float tMax = ray.tMax;
     hit->triangle = -1;
 

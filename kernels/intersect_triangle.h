@@ -8,6 +8,11 @@
 
 #include "ray.h"
 
+/* No fused multiply-add contraction: the same ray and triangle then give the
+ * same t in every kernel and on every device, so closest-hit, any-hit and
+ * the brute-force reference agree bit for bit. */
+#pragma OPENCL FP_CONTRACT OFF
+
 #ifdef cl_khr_fp64
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
@@ -70,14 +75,13 @@ inline bool intersect_triangle(const ShearedRay* s, float3 v0, float3 v1, float3
 
     Az *= s->sz; Bz *= s->sz; Cz *= s->sz;
     float T = U * Az + V * Bz + W * Cz;
-    /* 0 < T/det < tMax without dividing: compare with det's sign folded in. */
-    float detSign = det < 0.0f ? -1.0f : 1.0f;
-    float Ts = T * detSign, detAbs = det * detSign;
-    if (Ts <= 0.0f || Ts >= tMax * detAbs)
-        return false;
-
+    /* Divide before comparing: the hit is reported iff the t we return lies
+     * in (0, tMax), so closest-hit and any-hit agree at every segment end. */
     float invDet = 1.0f / det;
-    *t = T * invDet;
+    float tHit = T * invDet;
+    if (!(tHit > 0.0f && tHit < tMax))
+        return false;
+    *t = tHit;
     *b1 = V * invDet;
     *b2 = W * invDet;
     return true;

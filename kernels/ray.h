@@ -1,4 +1,5 @@
-/* Rays and the self-intersection-free origin offset. */
+/* Rays, surface points with error bounds, and the self-intersection-free
+ * origin offset. */
 #ifndef WAVEVCM_RAY_H
 #define WAVEVCM_RAY_H
 
@@ -8,33 +9,60 @@ typedef struct Ray {
     float tMax;
 } Ray;
 
-/* Offset a surface point p along the geometric normal n (already flipped to
- * the side the new ray leaves from) far enough that the new ray cannot hit the
- * surface it starts on, at any scene scale (Wächter & Binder, "A Fast and
- * Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6).
- * Away from the origin the offset is a fixed number of ULPs of p (added to
- * the float's bit pattern, so it scales with |p|); near the origin, where ULPs
- * become tiny, a fixed absolute offset takes over. */
-inline float offset_component(float p, float n)
+/* γ(n) = nε / (1 - nε), ε = 2^-24: the bound on the relative error of n
+ * chained float operations (Higham; pbrt-v4 §6.8). */
+#define GAMMA(n) ((float)(n) * 0x1.0p-24f / (1.0f - (float)(n) * 0x1.0p-24f))
+
+/* A point on a triangle from barycentrics, p = b0·v0 + b1·v1 + b2·v2, and a
+ * conservative bound on its absolute error per axis,
+ * γ(7)·(|b0·v0| + |b1·v1| + |b2·v2|) (pbrt-v4, Triangle::InteractionFromIntersection),
+ * which covers the rounding of the barycentrics from the watertight test. */
+inline float3 surface_point(float3 v0, float3 v1, float3 v2, float b1, float b2, float3* error)
 {
-    const float ORIGIN = 1.0f / 32.0f, FLOAT_SCALE = 1.0f / 65536.0f, INT_SCALE = 256.0f;
-    if (fabs(p) < ORIGIN)
-        return p + FLOAT_SCALE * n;
-    int ulps = (int)(INT_SCALE * n);
-    return as_float(as_int(p) + (p < 0.0f ? -ulps : ulps));
+    float b0 = 1.0f - b1 - b2;
+    *error = GAMMA(7) * (fabs(b0 * v0) + fabs(b1 * v1) + fabs(b2 * v2));
+    return b0 * v0 + b1 * v1 + b2 * v2;
 }
 
-inline float3 offset_ray_origin(float3 p, float3 n)
+inline float next_float_up(float v)
 {
-    return (float3)(offset_component(p.x, n.x), offset_component(p.y, n.y),
-                    offset_component(p.z, n.z));
+    if (isinf(v) && v > 0.0f) return v;
+    if (v == -0.0f) v = 0.0f;
+    int bits = as_int(v);
+    return as_float(v >= 0.0f ? bits + 1 : bits - 1);
 }
 
-/* Spawn a ray from surface point p (geometric normal ng) in direction d. */
-inline Ray spawn_ray(float3 p, float3 ng, float3 d)
+inline float next_float_down(float v)
+{
+    if (isinf(v) && v < 0.0f) return v;
+    if (v == 0.0f) v = -0.0f;
+    int bits = as_int(v);
+    return as_float(v > 0.0f ? bits - 1 : bits + 1);
+}
+
+/* Move p off the surface along the geometric normal n, to the side of w, by
+ * the projection of the error box onto n, then round away from p: the origin
+ * is then provably on w's side of the true surface, at any scene scale and
+ * position (pbrt-v4 OffsetRayOrigin). */
+inline float3 offset_ray_origin(float3 p, float3 error, float3 n, float3 w)
+{
+    float d = dot(fabs(n), error);
+    float3 offset = d * n;
+    if (dot(w, n) < 0.0f)
+        offset = -offset;
+    float3 po = p + offset;
+    po.x = offset.x > 0.0f ? next_float_up(po.x) : (offset.x < 0.0f ? next_float_down(po.x) : po.x);
+    po.y = offset.y > 0.0f ? next_float_up(po.y) : (offset.y < 0.0f ? next_float_down(po.y) : po.y);
+    po.z = offset.z > 0.0f ? next_float_up(po.z) : (offset.z < 0.0f ? next_float_down(po.z) : po.z);
+    return po;
+}
+
+/* A ray leaving surface point p (error bound `error`, geometric normal ng)
+ * in direction d. */
+inline Ray spawn_ray(float3 p, float3 error, float3 ng, float3 d)
 {
     Ray r;
-    r.origin = offset_ray_origin(p, dot(d, ng) < 0.0f ? -ng : ng);
+    r.origin = offset_ray_origin(p, error, ng, d);
     r.direction = d;
     r.tMax = INFINITY;
     return r;

@@ -1,0 +1,405 @@
+// The BVH and its traversal against brute force, on every OpenCL device:
+// closest hits must be bit-identical to testing every triangle with the same
+// triangle routine (the traversal may only skip what cannot be hit), and
+// any-hit occlusion must agree with the closest hit for every segment length.
+// Ray sets include rays through shared edges and vertices, axis-parallel rays
+// and rays starting on surfaces.
+#include "../kernels/queue_ids.h"
+#include "TestDevices.h"
+#include "bvh/Bvh.h"
+#include "render/SceneBuffers.h"
+#include "scene/GltfLoader.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <random>
+
+namespace wv {
+namespace {
+
+using Float4 = std::array<float, 4>;
+
+struct RaySet {
+    std::vector<Float4> origins, directions; // directions[i][3] = tMax
+    void add(Vec3 o, Vec3 d, float tMax = INFINITY)
+    {
+        origins.push_back({o.x, o.y, o.z, 0});
+        directions.push_back({d.x, d.y, d.z, tMax});
+    }
+    size_t size() const { return origins.size(); }
+};
+
+// A closed cube [-1,1]^3, each face an n × n grid of quads: many shared edges
+// and vertices, all on axis-aligned planes.
+std::vector<Vec3> tessellatedCube(int n)
+{
+    std::vector<Vec3> v;
+    for (int axis = 0; axis < 3; ++axis)
+        for (float side : {-1.0f, 1.0f})
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j) {
+                    auto corner = [&](int a, int b) {
+                        Vec3 p;
+                        p[axis] = side;
+                        p[(axis + 1) % 3] = -1.0f + 2.0f * float(a) / float(n);
+                        p[(axis + 2) % 3] = -1.0f + 2.0f * float(b) / float(n);
+                        return p;
+                    };
+                    Vec3 p00 = corner(i, j), p10 = corner(i + 1, j), p01 = corner(i, j + 1), p11 = corner(i + 1, j + 1);
+                    for (Vec3 p : {p00, p10, p11, p00, p11, p01}) v.push_back(p);
+                }
+    return v;
+}
+
+Vec3 randomDirection(std::mt19937& rng)
+{
+    std::normal_distribution<float> g;
+    Vec3 d;
+    do d = Vec3(g(rng), g(rng), g(rng));
+    while (length(d) < 1e-3f);
+    return normalize(d);
+}
+
+struct Hits {
+    std::vector<float> t;
+    std::vector<int> triangle;
+};
+
+class Tracer {
+public:
+    Tracer(const DeviceInfo& info, const Scene& scene)
+        : device_(info), bvh_(buildBvh(scene.vertices)), buffers_(device_, scene, bvh_),
+          program_(test::buildTestProgram(device_, {"extend.cl", "connect.cl", test::testKernel("trace_tests.cl")})),
+          triangleCount_(int(scene.triangleCount()))
+    {
+    }
+
+    const Bvh& bvh() const { return bvh_; }
+
+    Hits closest(const RaySet& rays) { return run(rays, "extend"); }
+    Hits bruteForce(const RaySet& rays) { return run(rays, "brute_force_closest"); }
+
+    std::vector<int> occluded(const RaySet& rays)
+    {
+        Inputs in(device_, rays);
+        cl::Buffer occluded = deviceBuffer(device_, rays.size() * 4, "occlusion");
+        cl::Kernel k(program_, "connect");
+        setArgs(k, buffers_.nodes, buffers_.triVertices, in.items, in.counters, int(QUEUE_RAYS), in.origins,
+                in.directions, occluded);
+        device_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(rays.size())), cl::NDRange(64));
+        std::vector<int> out(rays.size());
+        device_.queue.enqueueReadBuffer(occluded, CL_TRUE, 0, out.size() * 4, out.data());
+        return out;
+    }
+
+    // Rays from points on BVH-ordered triangles, offset by the production rule.
+    Hits spawned(const std::vector<int>& sources, const std::vector<std::array<float, 2>>& bary,
+                 const std::vector<Float4>& directions)
+    {
+        size_t n = sources.size();
+        cl::Buffer src = uploadBuffer(device_, sources.data(), n * 4, "sources");
+        cl::Buffer b = uploadBuffer(device_, bary.data(), n * 8, "barycentrics");
+        cl::Buffer d = uploadBuffer(device_, directions.data(), n * 16, "directions");
+        cl::Buffer t = deviceBuffer(device_, n * 4, "t"), tri = deviceBuffer(device_, n * 4, "tri");
+        cl::Kernel k(program_, "spawn_and_trace");
+        setArgs(k, buffers_.nodes, buffers_.triVertices, src, b, d, int(n), t, tri);
+        device_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(n)), cl::NDRange(64));
+        return read(t, tri, n);
+    }
+
+    // The scene triangle index of BVH position i.
+    uint32_t sceneTriangle(int i) const { return bvh_.triangleOrder[i]; }
+
+private:
+    struct Inputs {
+        cl::Buffer origins, directions, items, counters;
+        Inputs(DeviceContext& dev, const RaySet& rays)
+        {
+            size_t n = rays.size();
+            origins = uploadBuffer(dev, rays.origins.data(), n * 16, "origins");
+            directions = uploadBuffer(dev, rays.directions.data(), n * 16, "directions");
+            std::vector<int> all(n);
+            for (size_t i = 0; i < n; ++i) all[i] = int(i);
+            items = uploadBuffer(dev, all.data(), n * 4, "queue");
+            int c[COUNTER_COUNT] = {};
+            c[QUEUE_RAYS] = int(n);
+            counters = uploadBuffer(dev, c, sizeof c, "counters");
+        }
+    };
+
+    template <typename... Args> static void setArgs(cl::Kernel& k, const Args&... args)
+    {
+        int i = 0;
+        (k.setArg(i++, args), ...);
+    }
+
+    Hits read(const cl::Buffer& t, const cl::Buffer& tri, size_t n)
+    {
+        Hits h;
+        h.t.resize(n);
+        h.triangle.resize(n);
+        device_.queue.enqueueReadBuffer(t, CL_TRUE, 0, n * 4, h.t.data());
+        device_.queue.enqueueReadBuffer(tri, CL_TRUE, 0, n * 4, h.triangle.data());
+        return h;
+    }
+
+    Hits run(const RaySet& rays, const std::string& kernel)
+    {
+        Inputs in(device_, rays);
+        size_t n = rays.size();
+        cl::Buffer t = deviceBuffer(device_, n * 4, "t"), tri = deviceBuffer(device_, n * 4, "tri"),
+                   bary = deviceBuffer(device_, n * 8, "bary");
+        cl::Kernel k(program_, kernel.c_str());
+        if (kernel == "extend")
+            setArgs(k, buffers_.nodes, buffers_.triVertices, in.items, in.counters, in.origins, in.directions, t, tri, bary);
+        else
+            setArgs(k, buffers_.triVertices, triangleCount_, in.origins, in.directions, int(n), t, tri);
+        device_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(n)), cl::NDRange(64));
+        return read(t, tri, n);
+    }
+
+    DeviceContext device_;
+    Bvh bvh_;
+    SceneBuffers buffers_;
+    cl::Program program_;
+    int triangleCount_;
+};
+
+// Closest hits equal brute force bit for bit; where two triangles tie at the
+// same t (a shared edge), either may be reported.
+void expectSameClosestHits(const Hits& bvh, const Hits& brute, const char* what)
+{
+    ASSERT_EQ(bvh.t.size(), brute.t.size());
+    int mismatches = 0;
+    for (size_t i = 0; i < bvh.t.size(); ++i) {
+        bool same = (bvh.triangle[i] < 0) == (brute.triangle[i] < 0) &&
+                    (bvh.triangle[i] < 0 || bvh.t[i] == brute.t[i]);
+        if (!same && ++mismatches <= 5)
+            ADD_FAILURE() << what << " ray " << i << ": BVH hit triangle " << bvh.triangle[i] << " at t=" << bvh.t[i]
+                          << ", brute force triangle " << brute.triangle[i] << " at t=" << brute.t[i];
+    }
+    EXPECT_EQ(mismatches, 0) << what;
+}
+
+RaySet randomRays(const Bounds& b, int count, std::mt19937& rng)
+{
+    RaySet rays;
+    Vec3 e = b.extent();
+    std::uniform_real_distribution<float> u(-0.25f, 1.25f);
+    for (int i = 0; i < count; ++i) {
+        Vec3 o = b.lo + Vec3(e.x * u(rng), e.y * u(rng), e.z * u(rng));
+        rays.add(o, randomDirection(rng));
+    }
+    return rays;
+}
+
+// Rays through the cube's grid vertices and edge midpoints: from random
+// points inside (a closed mesh must be hit: watertightness), from outside,
+// and axis-parallel along and across the faces.
+RaySet edgeAndVertexRays(const std::vector<Vec3>& v, std::mt19937& rng)
+{
+    RaySet rays;
+    std::uniform_real_distribution<float> inside(-0.9f, 0.9f);
+    for (size_t t = 0; t + 2 < v.size(); t += 3 * 7) { // a spread subset of triangles
+        for (int k = 0; k < 3; ++k) {
+            Vec3 targets[2] = {v[t + k], (v[t + k] + v[t + (k + 1) % 3]) * 0.5f};
+            for (Vec3 target : targets) {
+                Vec3 o(inside(rng), inside(rng), inside(rng));
+                rays.add(o, normalize(target - o));
+                rays.add(target * 3.0f, normalize(target - target * 3.0f)); // from outside, towards the centre
+                for (int axis = 0; axis < 3; ++axis) {
+                    Vec3 d(0, 0, 0);
+                    d[axis] = 1;
+                    rays.add(target - d * 5.0f, d);  // axis-parallel through the point
+                }
+            }
+        }
+    }
+    return rays;
+}
+
+// Rays starting exactly on surfaces (no offset), in random directions.
+RaySet surfaceRays(const std::vector<Vec3>& v, int count, std::mt19937& rng)
+{
+    RaySet rays;
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::uniform_int_distribution<size_t> pick(0, v.size() / 3 - 1);
+    for (int i = 0; i < count; ++i) {
+        size_t t = pick(rng);
+        float a = u(rng), b = u(rng);
+        if (a + b > 1) { a = 1 - a; b = 1 - b; }
+        Vec3 p = v[3 * t] * (1 - a - b) + v[3 * t + 1] * a + v[3 * t + 2] * b;
+        rays.add(p, randomDirection(rng));
+    }
+    return rays;
+}
+
+void checkAgainstBruteForce(const Scene& scene, const RaySet& rays, const char* what)
+{
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
+        SCOPED_TRACE(info.name + " (" + info.platformName + ")");
+        Tracer tracer(info, scene);
+        Hits bvh = tracer.closest(rays), brute = tracer.bruteForce(rays);
+        expectSameClosestHits(bvh, brute, what);
+
+        // Any hit with the segment ending one ULP before the closest hit must
+        // find nothing; ending just after it, must find something. "Just
+        // after" is 1e-5 × the scene's size: the triangle test's t carries an
+        // absolute error of a few ULPs of the vertex coordinates (Woop et al.
+        // 2013, §4), the box test's a relative one, so a box may be culled when
+        // the segment ends within that error of a hit.
+        float slack = 1e-5f * length(scene.bounds().extent());
+        RaySet shorter = rays, longer = rays;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            float t = brute.triangle[i] >= 0 ? brute.t[i] : 1e30f;
+            shorter.directions[i][3] = std::nextafter(t, 0.0f);
+            longer.directions[i][3] = t + slack;
+        }
+        std::vector<int> before = tracer.occluded(shorter), after = tracer.occluded(longer);
+        int wrong = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            bool hits = brute.triangle[i] >= 0;
+            wrong += before[i] != 0;
+            wrong += after[i] != int(hits);
+        }
+        EXPECT_EQ(wrong, 0) << what << ": occlusion disagrees with the closest hit";
+    }
+}
+
+TEST(Bvh, StructureIsValid)
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-10, 10);
+    std::vector<Vec3> v;
+    for (int i = 0; i < 3000; ++i) v.push_back(Vec3(u(rng), u(rng), u(rng)));
+    // Plus many identical triangles: centroids coincide and SAH cannot split.
+    for (int i = 0; i < 600; ++i) v.push_back(Vec3(float(i % 3), 0, 0));
+    Bvh bvh = buildBvh(v);
+    size_t triangles = v.size() / 3;
+    std::vector<int> seen(triangles, 0);
+    ASSERT_LE(bvh.depth, kMaxBvhDepth);
+    for (size_t n = 0; n < bvh.nodes.size(); ++n) {
+        const BvhNode& node = bvh.nodes[n];
+        if (node.primCount == 0) {
+            // Children lie inside their parent's bounds.
+            for (size_t c : {n + 1, size_t(node.offset)}) {
+                ASSERT_LT(c, bvh.nodes.size());
+                for (int a = 0; a < 3; ++a) {
+                    EXPECT_GE(bvh.nodes[c].lo[a], node.lo[a]);
+                    EXPECT_LE(bvh.nodes[c].hi[a], node.hi[a]);
+                }
+            }
+            continue;
+        }
+        for (int i = node.offset; i < node.offset + node.primCount; ++i) {
+            seen[i]++;
+            uint32_t t = bvh.triangleOrder[i];
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 3; ++a) {
+                    EXPECT_GE(v[3 * t + k][a], node.lo[a]);
+                    EXPECT_LE(v[3 * t + k][a], node.hi[a]);
+                }
+        }
+    }
+    for (size_t i = 0; i < triangles; ++i) ASSERT_EQ(seen[i], 1) << "triangle slot " << i << " in " << seen[i] << " leaves";
+}
+
+TEST(Bvh, CornellBoxMatchesBruteForce)
+{
+    Scene scene = loadGltf(test::cornellBoxPath());
+    std::mt19937 rng(1);
+    RaySet rays = randomRays(scene.bounds(), 20000, rng);
+    RaySet onSurface = surfaceRays(scene.vertices, 5000, rng);
+    rays.origins.insert(rays.origins.end(), onSurface.origins.begin(), onSurface.origins.end());
+    rays.directions.insert(rays.directions.end(), onSurface.directions.begin(), onSurface.directions.end());
+    checkAgainstBruteForce(scene, rays, "Cornell box");
+}
+
+TEST(Bvh, SharedEdgesAndVerticesMatchBruteForceAndAreWatertight)
+{
+    std::vector<Vec3> cube = tessellatedCube(8);
+    Scene scene = test::sceneFromTriangles(cube);
+    std::mt19937 rng(2);
+    RaySet rays = edgeAndVertexRays(cube, rng);
+    checkAgainstBruteForce(scene, rays, "tessellated cube");
+
+    // Every ray from strictly inside a closed mesh hits it.
+    RaySet fromInside;
+    std::uniform_real_distribution<float> inside(-0.9f, 0.9f);
+    for (size_t i = 0; i < rays.size(); ++i)
+        if (std::fabs(rays.origins[i][0]) < 1 && std::fabs(rays.origins[i][1]) < 1 && std::fabs(rays.origins[i][2]) < 1) {
+            fromInside.origins.push_back(rays.origins[i]);
+            fromInside.directions.push_back(rays.directions[i]);
+        }
+    ASSERT_GT(fromInside.size(), 100u);
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
+        SCOPED_TRACE(info.name);
+        Hits h = Tracer(info, scene).closest(fromInside);
+        int misses = 0;
+        for (int tri : h.triangle) misses += tri < 0;
+        EXPECT_EQ(misses, 0) << "rays escaped a closed mesh through an edge or vertex";
+    }
+}
+
+// Rays leaving the surface of a convex closed mesh, offset by spawn_ray: going
+// outwards they must escape, going inwards they must hit another face, never
+// the one they start on, at scene scales from 1e-4 to 1e5 and far from the origin.
+TEST(Bvh, SpawnedRaysNeverSelfIntersect)
+{
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    struct Placement { float scale; float shift; };
+    for (Placement place : {Placement{1e-4f, 0}, Placement{1, 0}, Placement{1e5f, 0}, Placement{1, 1e5f}}) {
+        std::vector<Vec3> cube = tessellatedCube(2);
+        for (Vec3& p : cube) p = p * place.scale + Vec3(place.shift, place.shift, place.shift);
+        Scene scene = test::sceneFromTriangles(cube);
+        for (const DeviceInfo& info : test::devicesUnderTest()) {
+            SCOPED_TRACE(info.name + " scale " + std::to_string(place.scale) + " shift " + std::to_string(place.shift));
+            Tracer tracer(info, scene);
+            std::vector<int> sources;
+            std::vector<std::array<float, 2>> bary;
+            std::vector<Float4> dirs;
+            std::vector<bool> outward;
+            int triangles = int(scene.triangleCount());
+            for (int i = 0; i < 4000; ++i) {
+                int tri = i % triangles;
+                uint32_t t = tracer.sceneTriangle(tri);
+                Vec3 n = normalize(cross(cube[3 * t + 1] - cube[3 * t], cube[3 * t + 2] - cube[3 * t]));
+                // Face normals of tessellatedCube point outwards or inwards depending on
+                // the face; orient by the face's position instead.
+                Vec3 centre = (cube[3 * t] + cube[3 * t + 1] + cube[3 * t + 2]) * (1.0f / 3.0f) -
+                              Vec3(place.shift, place.shift, place.shift);
+                if (dot(n, centre) < 0) n = -n;
+                // Barycentrics >= 0.1 keep points >= 0.1 × scale inside the faces
+                // (quads of side 1 × scale), beyond the float rounding of a point
+                // 1e5 from the origin (~0.01), so every start point is on the cube.
+                float a = u(rng), b = u(rng);
+                if (a + b > 1) { a = 1 - a; b = 1 - b; }
+                a = 0.1f + 0.7f * a;
+                b = 0.1f + 0.7f * b;
+                Vec3 d = randomDirection(rng);
+                // Keep directions at least ~1 degree away from the surface plane.
+                if (std::fabs(dot(d, n)) < 0.02f) d = normalize(d + n * 0.05f);
+                sources.push_back(tri);
+                bary.push_back({a, b});
+                dirs.push_back({d.x, d.y, d.z, 0});
+                outward.push_back(dot(d, n) > 0);
+            }
+            Hits h = tracer.spawned(sources, bary, dirs);
+            int selfHits = 0, escapedInwards = 0, hitOutwards = 0;
+            for (size_t i = 0; i < sources.size(); ++i) {
+                if (outward[i]) hitOutwards += h.triangle[i] >= 0;
+                else if (h.triangle[i] < 0) escapedInwards++;
+                else if (h.triangle[i] == sources[i]) selfHits++;
+            }
+            EXPECT_EQ(selfHits, 0);
+            EXPECT_EQ(escapedInwards, 0);
+            EXPECT_EQ(hitOutwards, 0);
+        }
+    }
+}
+
+} // namespace
+} // namespace wv

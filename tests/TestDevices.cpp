@@ -1,0 +1,32 @@
+#include "TestDevices.h"
+
+namespace wv::test {
+
+std::vector<DeviceInfo> devicesUnderTest() { return enumerateDevices(); }
+
+std::string testKernel(const std::string& name) { return std::string(WAVEVCM_TEST_KERNEL_DIR) + "/" + name; }
+
+cl::Program buildTestProgram(DeviceContext& device, const std::vector<std::string>& files, const std::string& options)
+{
+    std::string source = expandKernelSources(findKernelDir(), files);
+    return buildProgram(device.context, device.info, source, "-cl-std=CL1.2 " + options).program;
+}
+
+Scene sceneFromTriangles(std::vector<Vec3> vertices)
+{
+    Scene s;
+    s.path = "(generated)";
+    s.vertices = std::move(vertices);
+    Material m{};
+    m.baseColor[0] = m.baseColor[1] = m.baseColor[2] = 0.5f;
+    m.roughness = 1;
+    m.ior = 1.5f;
+    m.lobes = LOBE_DIFFUSE;
+    s.materials.push_back(m);
+    s.triangleMaterial.assign(s.vertices.size() / 3, 0);
+    return s;
+}
+
+std::string cornellBoxPath() { return std::string(WAVEVCM_SOURCE_DIR) + "/scenes/cornell-box.gltf"; }
+
+} // namespace wv::test

@@ -1,0 +1,31 @@
+// Helpers shared by the tests that run on every OpenCL device present.
+#pragma once
+
+#include "cl/DeviceContext.h"
+#include "cl/Program.h"
+#include "scene/Scene.h"
+
+#include <string>
+#include <vector>
+
+namespace wv::test {
+
+// Every device (ctest sets RUSTICL_ENABLE=llvmpipe so rusticl is among them).
+std::vector<DeviceInfo> devicesUnderTest();
+
+// A program of the named kernel files; test kernels live in tests/kernels.
+cl::Program buildTestProgram(DeviceContext& device, const std::vector<std::string>& files,
+                             const std::string& options = "");
+
+std::string testKernel(const std::string& name);
+
+// A scene with one diffuse material and the given triangles (3 vertices each).
+Scene sceneFromTriangles(std::vector<Vec3> vertices);
+
+// The Cornell box from scenes/.
+std::string cornellBoxPath();
+
+// Rounds n up to a multiple of 64, the local size the tests launch with.
+inline size_t launchSize(size_t n) { return (n + 63) / 64 * 64; }
+
+} // namespace wv::test

@@ -1,0 +1,52 @@
+/* Test-only kernels: a brute-force reference for the BVH traversal (the same
+ * triangle test over every triangle) and rays spawned from surface points
+ * with the production offset. */
+#include "bvh_traversal.h"
+#include "path_state.h"
+
+__kernel void brute_force_closest(__global const float4* triVertices, int triangleCount,
+                                  __global const float4* rayOrigins,
+                                  __global const float4* rayDirections, int rayCount,
+                                  __global float* hitT, __global int* hitTriangle)
+{
+    int i = get_global_id(0);
+    if (i >= rayCount)
+        return;
+    Ray ray = load_ray(rayOrigins, rayDirections, i);
+    ShearedRay sheared = shear_ray(ray);
+    float tMax = ray.tMax;
+    int found = -1;
+    for (int tri = 0; tri < triangleCount; ++tri) {
+        float t, b1, b2;
+        if (intersect_triangle(&sheared, triVertices[3 * tri].xyz, triVertices[3 * tri + 1].xyz,
+                               triVertices[3 * tri + 2].xyz, tMax, &t, &b1, &b2)) {
+            tMax = t;
+            found = tri;
+        }
+    }
+    hitT[i] = found >= 0 ? tMax : INFINITY;
+    hitTriangle[i] = found;
+}
+
+/* From the point with barycentrics (b1, b2) on triangle `sources[i]`, offset
+ * along the geometric normal to the side of directions[i], trace closest hit. */
+__kernel void spawn_and_trace(__global const BvhNode* nodes, __global const float4* triVertices,
+                              __global const int* sources, __global const float2* barycentrics,
+                              __global const float4* directions, int rayCount,
+                              __global float* hitT, __global int* hitTriangle)
+{
+    int i = get_global_id(0);
+    if (i >= rayCount)
+        return;
+    int tri = sources[i];
+    float3 v0 = triVertices[3 * tri].xyz, v1 = triVertices[3 * tri + 1].xyz,
+           v2 = triVertices[3 * tri + 2].xyz;
+    float2 b = barycentrics[i];
+    float3 error;
+    float3 p = surface_point(v0, v1, v2, b.x, b.y, &error);
+    float3 ng = normalize(cross(v1 - v0, v2 - v0));
+    Hit hit;
+    trace_ray(nodes, triVertices, spawn_ray(p, error, ng, directions[i].xyz), false, &hit);
+    hitT[i] = hit.triangle >= 0 ? hit.t : INFINITY;
+    hitTriangle[i] = hit.triangle;
+}
