@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -19,7 +20,7 @@ namespace fs = std::filesystem;
 namespace wv {
 
 // Bump when the cache format or anything outside the hashed inputs changes.
-static const char* kCacheVersion = "wavevcm-program-cache-1";
+static const char* kCacheVersion = "wavevcm-program-cache-2";
 
 std::string findKernelDir()
 {
@@ -110,17 +111,35 @@ static double secondsSince(std::chrono::steady_clock::time_point start)
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Loads a cached binary; any failure (missing, corrupt, rejected by the
-// driver) means "not cached" and the caller builds from source.
+// A cache file is a header (magic, binary size, fingerprint of the binary)
+// followed by the driver's binary. The header is checked before the driver
+// sees the bytes: some drivers (rusticl 22.3) abort the process on a corrupt
+// binary instead of returning CL_INVALID_BINARY.
+struct CacheHeader {
+    char magic[8];
+    uint64_t size;
+    uint64_t fingerprint;
+};
+static const char kCacheMagic[8] = {'W', 'V', 'C', 'M', 'B', 'I', 'N', '1'};
+
+// Loads a cached binary; any failure (missing, truncated, corrupt, rejected by
+// the driver) means "not cached" and the caller builds from source.
 static bool loadCached(const fs::path& file, const cl::Context& context, const DeviceInfo& device,
                        const std::string& options, cl::Program* program)
 {
     std::error_code ec;
     if (!fs::exists(file, ec)) return false;
     std::string bytes = readFile(file);
-    if (bytes.empty()) return false;
+    CacheHeader header;
+    if (bytes.size() < sizeof header) return false;
+    std::memcpy(&header, bytes.data(), sizeof header);
+    const char* binary = bytes.data() + sizeof header;
+    if (std::memcmp(header.magic, kCacheMagic, sizeof kCacheMagic) != 0 || header.size == 0 ||
+        header.size != bytes.size() - sizeof header ||
+        header.fingerprint != OIIO::farmhash::Fingerprint64(binary, header.size))
+        return false;
     try {
-        cl::Program::Binaries binaries{std::vector<unsigned char>(bytes.begin(), bytes.end())};
+        cl::Program::Binaries binaries{std::vector<unsigned char>(binary, binary + header.size)};
         std::vector<cl_int> status;
         cl::Program p(context, {device.device}, binaries, &status);
         p.build({device.device}, options.c_str());
@@ -140,6 +159,11 @@ static void storeCached(const fs::path& file, const cl::Program& program)
         return; // the driver cannot export binaries: no cache, nothing wrong
     }
     if (binaries.empty() || binaries[0].empty()) return;
+    const std::vector<unsigned char>& binary = binaries[0];
+    CacheHeader header;
+    std::memcpy(header.magic, kCacheMagic, sizeof kCacheMagic);
+    header.size = binary.size();
+    header.fingerprint = OIIO::farmhash::Fingerprint64(reinterpret_cast<const char*>(binary.data()), binary.size());
     std::error_code ec;
     fs::create_directories(file.parent_path(), ec);
     // Write then rename, so a concurrent or interrupted run never sees half a file.
@@ -147,8 +171,13 @@ static void storeCached(const fs::path& file, const cl::Program& program)
     tmp += ".tmp" + std::to_string(::getpid());
     {
         std::ofstream out(tmp, std::ios::binary);
-        out.write(reinterpret_cast<const char*>(binaries[0].data()), std::streamsize(binaries[0].size()));
-        if (!out) { fs::remove(tmp, ec); return; }
+        out.write(reinterpret_cast<const char*>(&header), sizeof header);
+        out.write(reinterpret_cast<const char*>(binary.data()), std::streamsize(binary.size()));
+        if (!out) {
+            out.close();
+            fs::remove(tmp, ec);
+            return;
+        }
     }
     fs::rename(tmp, file, ec);
     if (ec) fs::remove(tmp, ec);

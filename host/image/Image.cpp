@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <unistd.h>
 
 namespace wv {
@@ -16,6 +17,19 @@ static std::string extensionOf(const std::string& path)
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     return ext;
+}
+
+// Portable float map: "PF", size, a negative scale for little-endian, then
+// float RGB rows from the bottom up. Written here because Debian's
+// OpenImageIO 2.4 reads PFM but has no PFM writer.
+static bool writePfm(const std::string& path, const Image& image)
+{
+    std::ofstream out(path, std::ios::binary);
+    out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+    for (int y = image.height - 1; y >= 0; --y)
+        out.write(reinterpret_cast<const char*>(&image.rgb[size_t(y) * image.width * 3]),
+                  std::streamsize(sizeof(float) * 3 * image.width));
+    return bool(out);
 }
 
 void writeImage(const std::string& path, const Image& image)
@@ -35,15 +49,18 @@ void writeImage(const std::string& path, const Image& image)
         out = OIIO::ImageBufAlgo::colorconvert(out, "linear", "sRGB");
         if (out.has_error()) throw Error(path + ": colour conversion failed: " + out.geterror());
     }
-    std::filesystem::path tmp = std::filesystem::path(path).parent_path() /
-                                ("." + std::filesystem::path(path).filename().string() + ".partial" +
-                                 std::to_string(::getpid()));
-    std::string format = ext.substr(1) == "jpg" ? "jpeg" : ext.substr(1);
-    if (format == "pfm") format = "pnm";
-    if (!out.write(tmp.string(), eightBit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT, format)) {
+    // The temporary name keeps the extension, from which OpenImageIO picks the
+    // format (and, for .pfm, float rather than 8-bit PNM).
+    std::filesystem::path target(path);
+    std::filesystem::path tmp = target.parent_path() / ("." + target.stem().string() + ".partial" +
+                                                        std::to_string(::getpid()) + target.extension().string());
+    bool written = ext == ".pfm" ? writePfm(tmp.string(), image)
+                                 : out.write(tmp.string(), eightBit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+    if (!written) {
         std::error_code ec;
         std::filesystem::remove(tmp, ec);
-        throw Error(path + ": cannot write image: " + out.geterror());
+        std::string why = out.geterror();
+        throw Error(path + ": cannot write image" + (why.empty() ? "" : ": " + why));
     }
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);

@@ -1,0 +1,127 @@
+// Kernel sources and programs: #include inlining with #line, the build log
+// on failure naming file and line, and the on-disk binary cache.
+#include "TestDevices.h"
+#include "Error.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace wv {
+namespace {
+
+struct TempDir {
+    fs::path path;
+    explicit TempDir(const std::string& name)
+        : path(fs::temp_directory_path() / ("wavevcm-" + name + "-" + std::to_string(::getpid())))
+    {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    void write(const std::string& file, const std::string& text) const { std::ofstream(path / file) << text; }
+};
+
+TEST(KernelSources, IncludesAreInlinedOnceWithLineDirectives)
+{
+    TempDir dir("expand");
+    dir.write("a.h", "#ifndef A\n#define A\nint a;\n#endif\n");
+    dir.write("b.h", "#include \"a.h\"\nint b;\n");
+    dir.write("main.cl", "#include \"a.h\"\n#include \"b.h\"\nint main_;\n");
+    std::string out = expandKernelSources(dir.path.string(), {"main.cl"});
+    EXPECT_NE(out.find("#line 1 \"main.cl\""), std::string::npos);
+    EXPECT_NE(out.find("#line 3 \"main.cl\""), std::string::npos) << out; // after the second include
+    EXPECT_EQ(out.find("int a;"), out.rfind("int a;")) << "a.h inlined twice:\n" << out;
+    EXPECT_NE(out.find("int b;"), std::string::npos);
+}
+
+TEST(KernelSources, MissingIncludeNamesFileAndLine)
+{
+    TempDir dir("missing");
+    dir.write("main.cl", "int x;\n#include \"nowhere.h\"\n");
+    try {
+        expandKernelSources(dir.path.string(), {"main.cl"});
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("main.cl:2"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("nowhere.h"), std::string::npos) << e.what();
+    }
+}
+
+TEST(KernelSources, EveryRenderKernelBuilds)
+{
+    // The production kernels compile on every device, with and without the
+    // optional vertex normals.
+    std::string source = expandKernelSources(findKernelDir(), {"generate.cl", "extend.cl", "connect.cl",
+                                                              "shade_eyelight.cl", "accumulate.cl"});
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
+        SCOPED_TRACE(info.name);
+        DeviceContext device(info);
+        for (const char* options : {"-cl-std=CL1.2", "-cl-std=CL1.2 -DHAS_VERTEX_NORMALS"})
+            EXPECT_NO_THROW(buildProgram(device.context, info, source, options));
+    }
+}
+
+TEST(ProgramBuild, FailureReportsTheBuildLogWithFileAndLine)
+{
+    TempDir dir("broken");
+    dir.write("broken.cl", "__kernel void k(__global int* x)\n{\n    x[0] = undeclared_name;\n}\n");
+    std::string source = expandKernelSources(dir.path.string(), {"broken.cl"});
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
+        SCOPED_TRACE(info.name);
+        DeviceContext device(info);
+        try {
+            buildProgram(device.context, info, source, "");
+            FAIL() << "the broken kernel built";
+        } catch (const Error& e) {
+            std::string msg = e.what();
+            EXPECT_NE(msg.find("build log"), std::string::npos) << msg;
+            EXPECT_NE(msg.find("broken.cl:3"), std::string::npos) << msg;
+            EXPECT_NE(msg.find("undeclared_name"), std::string::npos) << msg;
+        }
+    }
+}
+
+TEST(ProgramBuild, SecondBuildComesFromTheCache)
+{
+    TempDir dir("cache");
+    ::setenv("WAVEVCM_CACHE_DIR", dir.path.c_str(), 1);
+    // A source unique to this run, so nothing older can be in any cache.
+    std::string source = "__kernel void k(__global int* x) { x[get_global_id(0)] = " +
+                         std::to_string(::getpid()) + "; }\n";
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
+        SCOPED_TRACE(info.name);
+        DeviceContext device(info);
+        ProgramBuild first = buildProgram(device.context, info, source, "");
+        ProgramBuild second = buildProgram(device.context, info, source, "");
+        EXPECT_FALSE(first.fromCache);
+        if (!fs::exists(first.cacheFile)) {
+            // Allowed: a driver that cannot export binaries; then there is no cache.
+            EXPECT_FALSE(second.fromCache);
+            continue;
+        }
+        EXPECT_TRUE(second.fromCache);
+        // Different options are a different program.
+        EXPECT_FALSE(buildProgram(device.context, info, source, "-DOTHER").fromCache);
+        // The cached program runs.
+        cl::Buffer out(device.context, CL_MEM_WRITE_ONLY, 64 * sizeof(int));
+        cl::Kernel k(second.program, "k");
+        k.setArg(0, out);
+        device.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(64), cl::NDRange(64));
+        std::vector<int> result(64);
+        device.queue.enqueueReadBuffer(out, CL_TRUE, 0, 64 * sizeof(int), result.data());
+        EXPECT_EQ(result[63], ::getpid());
+        // A corrupt cache file is ignored, not fatal.
+        std::ofstream(first.cacheFile, std::ios::trunc) << "garbage";
+        ProgramBuild third = buildProgram(device.context, info, source, "");
+        EXPECT_FALSE(third.fromCache);
+    }
+    ::unsetenv("WAVEVCM_CACHE_DIR");
+}
+
+} // namespace
+} // namespace wv
