@@ -1,6 +1,7 @@
 #include "../cl/Devices.h"
 #include "Commands.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace wv {
@@ -9,11 +10,14 @@ int runDevices()
 {
     std::vector<DeviceInfo> devices = enumerateDevices();
     const DeviceInfo& chosen = selectDevice(devices, "");
-    std::printf("%-5s %-28s %-44s %-5s %4s %10s\n", "index", "platform", "device", "type", "CUs", "memory");
+    size_t platformWidth = 8;
+    for (const DeviceInfo& d : devices) platformWidth = std::max(platformWidth, d.platformName.size());
+    std::printf("%-5s  %-*s  %-11s  %4s  %10s  %s\n", "index", int(platformWidth), "platform", "type", "CUs", "memory",
+                "device");
     for (const DeviceInfo& d : devices)
-        std::printf("%-5d %-28.28s %-44.44s %-5s %4u %6llu MiB%s\n", d.index, d.platformName.c_str(), d.name.c_str(),
+        std::printf("%-5d  %-*s  %-11s  %4u  %6llu MiB  %s%s\n", d.index, int(platformWidth), d.platformName.c_str(),
                     d.typeName().c_str(), d.computeUnits, static_cast<unsigned long long>(d.globalMemory >> 20),
-                    d.index == chosen.index ? "  (default)" : "");
+                    d.name.c_str(), d.index == chosen.index ? "  (default)" : "");
     return 0;
 }
 
