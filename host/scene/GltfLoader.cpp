@@ -72,7 +72,7 @@ Mat4 localTransform(const tinygltf::Node& node)
         for (int i = 0; i < 3; ++i) t[12 + i] = node.translation[i];
     if (node.rotation.size() == 4) {
         double x = node.rotation[0], y = node.rotation[1], z = node.rotation[2], w = node.rotation[3];
-        r = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w), 0,
+        r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w), 0,
              2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w), 0,
              2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y), 0,
              0, 0, 0, 1};
@@ -240,7 +240,7 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_transmission"))
         out.transmission = clamp01(number(*e, "transmissionFactor", 0.0));
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_volume")) {
-        out.thinWalled = 1;
+        out.thinWalled = number(*e, "thicknessFactor", 0.0) > 0.0 ? 0 : 1;
         out.attenuationDistance = float(std::max(0.0, number(*e, "attenuationDistance", 0.0)));
         for (int c = 0; c < 3; ++c) out.attenuationColor[c] = 1.0f;
         if (e->Has("attenuationColor") && e->Get("attenuationColor").IsArray() &&
@@ -468,7 +468,7 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             if (!wantNormals) continue;
             Vec3 geometric = cross(v[1] - v[0], v[2] - v[0]);
             for (int k = 0; k < 3; ++k) {
-                Vec3 n = normals.empty() ? geometric : transformVector(world, normals[indices[i + corner[k]]]);
+                Vec3 n = normals.empty() ? geometric : transformNormal(world, normals[indices[i + corner[k]]]);
                 float len = length(n);
                 scene_.normals.push_back(len > 0 && std::isfinite(len) ? n * (1.0f / len) : Vec3(0, 0, 0));
             }
@@ -515,7 +515,7 @@ void Loader::addLight(const tinygltf::Value& ext, const Mat4& world, const std::
     if (!isFinite(d)) fail(nodeName + ": degenerate light transform");
     for (int c = 0; c < 3; ++c) {
         double color = l.color.size() == 3 ? l.color[c] : 1.0;
-        out.intensity[c] = float(std::max(0.0, l.intensity));
+        out.intensity[c] = float(std::max(0.0, color * l.intensity));
         out.position[c] = p[c];
         out.direction[c] = d[c];
     }

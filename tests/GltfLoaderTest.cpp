@@ -1,0 +1,894 @@
+// wv::loadGltf on small glTF files written by the tests: node transforms of
+// vertices and normals, accessor layouts, cameras, KHR_lights_punctual lights,
+// the material-to-lobe mapping, the background, warnings for what is ignored
+// and wv::Error (naming the file) for what is malformed or unsupported.
+// Ends with the bundled Cornell box.
+#include "Error.h"
+#include "scene/GltfLoader.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace wv {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+constexpr int kUnsignedByte = 5121, kUnsignedShort = 5123, kUnsignedInt = 5125, kFloat = 5126;
+const double kHalfSqrt2 = std::sqrt(0.5); // cos and sin of 45°, for 90° quaternions
+
+::testing::AssertionResult near(Vec3 actual, Vec3 expected, float tolerance = 1e-5f)
+{
+    for (int i = 0; i < 3; ++i)
+        if (!(std::fabs(actual[i] - expected[i]) <= tolerance))
+            return ::testing::AssertionFailure()
+                   << "(" << actual.x << ", " << actual.y << ", " << actual.z << ") != expected (" << expected.x
+                   << ", " << expected.y << ", " << expected.z << ") within " << tolerance;
+    return ::testing::AssertionSuccess();
+}
+
+Vec3 triangleNormal(const Scene& s, size_t t)
+{
+    const Vec3* v = &s.vertices[3 * t];
+    return normalize(cross(v[1] - v[0], v[2] - v[0]));
+}
+
+bool anyWarningContains(const Scene& s, const std::string& text)
+{
+    for (const std::string& w : s.warnings)
+        if (w.find(text) != std::string::npos) return true;
+    return false;
+}
+
+void writeFile(const fs::path& path, const void* data, size_t size)
+{
+    std::ofstream f(path, std::ios::binary);
+    f.write(static_cast<const char*>(data), std::streamsize(size));
+    ASSERT_TRUE(f.good()) << "cannot write " << path;
+}
+
+// A glTF document being put together: the JSON and the one binary buffer its
+// buffer views point into. Every add* returns the index of what it added.
+class GltfBuilder {
+public:
+    json j;
+    std::vector<unsigned char> bin;
+
+    GltfBuilder()
+    {
+        j["asset"] = {{"version", "2.0"}};
+        j["scene"] = 0;
+        j["scenes"] = json::array({{{"nodes", json::array()}}});
+        j["nodes"] = json::array();
+        j["meshes"] = json::array();
+        j["accessors"] = json::array();
+        j["bufferViews"] = json::array();
+    }
+
+    int addView(const void* data, size_t size, int byteStride = 0)
+    {
+        while (bin.size() % 4) bin.push_back(0);
+        json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", size}};
+        if (byteStride) view["byteStride"] = byteStride;
+        auto bytes = static_cast<const unsigned char*>(data);
+        bin.insert(bin.end(), bytes, bytes + size);
+        return push("bufferViews", view);
+    }
+
+    int addAccessor(int view, int componentType, const std::string& type, size_t count, size_t byteOffset = 0)
+    {
+        return push("accessors", {{"bufferView", view},
+                                  {"componentType", componentType},
+                                  {"type", type},
+                                  {"count", count},
+                                  {"byteOffset", byteOffset}});
+    }
+
+    int addVec3s(const std::vector<Vec3>& v)
+    {
+        return addAccessor(addView(v.data(), v.size() * sizeof(Vec3)), kFloat, "VEC3", v.size());
+    }
+
+    template <class T> int addIndices(const std::vector<T>& indices)
+    {
+        static_assert(sizeof(T) == 1 || sizeof(T) == 2 || sizeof(T) == 4, "index size");
+        int type = sizeof(T) == 1 ? kUnsignedByte : sizeof(T) == 2 ? kUnsignedShort : kUnsignedInt;
+        return addAccessor(addView(indices.data(), indices.size() * sizeof(T)), type, "SCALAR", indices.size());
+    }
+
+    // A mesh of the given primitives (see primitive()).
+    int addMesh(std::vector<json> primitives) { return push("meshes", {{"primitives", primitives}}); }
+
+    int addNode(const json& node, bool root = true)
+    {
+        int index = push("nodes", node);
+        if (root) j["scenes"][0]["nodes"].push_back(index);
+        return index;
+    }
+
+    int addMaterial(const json& material)
+    {
+        if (!j.contains("materials")) j["materials"] = json::array();
+        return push("materials", material);
+    }
+
+    // `name`.gltf with its buffer in `name`.bin beside it.
+    std::string writeGltf(const fs::path& dir, const std::string& name)
+    {
+        j["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", name + ".bin"}}});
+        writeFile(dir / (name + ".bin"), bin.data(), bin.size());
+        std::string text = j.dump(1);
+        writeFile(dir / (name + ".gltf"), text.data(), text.size());
+        return (dir / (name + ".gltf")).string();
+    }
+
+    // `name`.glb: header, JSON chunk (space-padded), BIN chunk (zero-padded).
+    std::string writeGlb(const fs::path& dir, const std::string& name)
+    {
+        j["buffers"] = json::array({{{"byteLength", bin.size()}}});
+        std::string text = j.dump();
+        while (text.size() % 4) text += ' ';
+        std::vector<unsigned char> payload = bin;
+        while (payload.size() % 4) payload.push_back(0);
+        std::vector<unsigned char> out;
+        auto u32 = [&](uint32_t v) {
+            unsigned char b[4];
+            std::memcpy(b, &v, 4); // glb is little-endian, as is every host we build for
+            out.insert(out.end(), b, b + 4);
+        };
+        out.insert(out.end(), {'g', 'l', 'T', 'F'});
+        u32(2);
+        u32(uint32_t(12 + 8 + text.size() + 8 + payload.size()));
+        u32(uint32_t(text.size()));
+        u32(0x4E4F534A); // "JSON"
+        out.insert(out.end(), text.begin(), text.end());
+        u32(uint32_t(payload.size()));
+        u32(0x004E4942); // "BIN\0"
+        out.insert(out.end(), payload.begin(), payload.end());
+        writeFile(dir / (name + ".glb"), out.data(), out.size());
+        return (dir / (name + ".glb")).string();
+    }
+
+private:
+    int push(const char* key, const json& value)
+    {
+        j[key].push_back(value);
+        return int(j[key].size()) - 1;
+    }
+};
+
+json primitive(int position, int normal = -1, int indices = -1, int material = -1)
+{
+    json p = {{"attributes", {{"POSITION", position}}}};
+    if (normal >= 0) p["attributes"]["NORMAL"] = normal;
+    if (indices >= 0) p["indices"] = indices;
+    if (material >= 0) p["material"] = material;
+    return p;
+}
+
+// The triangle (0,0,0), (1,0,0), (0,1,0) with normal +z.
+const std::vector<Vec3> kTriangle = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+
+// The model most tests start from: node 0 (a root) holds mesh 0, one
+// non-indexed triangle (kTriangle, normals +z) of material 0, a grey Lambert
+// diffuse (metallic 0).
+GltfBuilder oneTriangle()
+{
+    GltfBuilder b;
+    int pos = b.addVec3s(kTriangle);
+    int nrm = b.addVec3s({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+    int material = b.addMaterial(
+        {{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1.0}}, {"metallicFactor", 0.0}}}});
+    b.addNode({{"mesh", b.addMesh({primitive(pos, nrm, -1, material)})}});
+    return b;
+}
+
+// A triangle in the plane x + y = 1 whose winding gives the normal (1,1,0)/√2,
+// the normal its vertices carry.
+GltfBuilder slantedTriangle(const json& nodeTransform)
+{
+    GltfBuilder b;
+    int pos = b.addVec3s({{1, 0, 0}, {0, 1, 0}, {0, 1, 1}});
+    Vec3 n = normalize(Vec3(1, 1, 0));
+    int nrm = b.addVec3s({n, n, n});
+    json node = nodeTransform;
+    node["mesh"] = b.addMesh({primitive(pos, nrm)});
+    b.addNode(node);
+    return b;
+}
+
+// Each test writes into a directory of its own, removed afterwards.
+class GltfLoader : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::path(::testing::TempDir()) /
+               ("wavevcm_gltf_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override
+    {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+
+    Scene load(GltfBuilder& b, const std::string& name = "scene") { return loadGltf(b.writeGltf(dir_, name)); }
+
+    // The Material the one triangle of oneTriangle() gets when its material is `material`.
+    Material loadMaterial(const json& material)
+    {
+        GltfBuilder b = oneTriangle();
+        b.j["materials"][0] = material;
+        Scene s = load(b);
+        EXPECT_EQ(s.triangleCount(), 1u);
+        return s.materials.at(s.triangleMaterial.at(0));
+    }
+
+    // Loading must throw wv::Error naming the file and containing `keyword`.
+    void expectLoadError(const std::string& path, const std::string& keyword)
+    {
+        EXPECT_THROW(loadGltf(path), Error);
+        try {
+            loadGltf(path);
+        } catch (const Error& e) {
+            std::string message = e.what();
+            EXPECT_NE(message.find(path), std::string::npos) << "message does not name the file: " << message;
+            EXPECT_NE(message.find(keyword), std::string::npos)
+                << "message does not mention '" << keyword << "': " << message;
+        }
+    }
+
+    fs::path dir_;
+};
+
+// ---------------------------------------------------------------- transforms
+
+TEST_F(GltfLoader, ParentTrsAndChildMatrixGiveWorldPositions)
+{
+    // Parent: T = (1,2,3), R = 90° about z, S = (2,3,4). Child: a matrix
+    // scaling x by 2 and translating by (1,0,5). Worked by hand:
+    // (0,0,0) → child (1,0,5) → S (2,0,20) → R (0,2,20) → T (1,4,23), etc.
+    GltfBuilder b;
+    int pos = b.addVec3s(kTriangle);
+    int child = b.addNode({{"mesh", b.addMesh({primitive(pos)})},
+                           {"matrix", {2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1, 0, 5, 1}}},
+                          false);
+    b.addNode({{"translation", {1, 2, 3}},
+               {"rotation", {0, 0, kHalfSqrt2, kHalfSqrt2}},
+               {"scale", {2, 3, 4}},
+               {"children", {child}}});
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 1u);
+    EXPECT_TRUE(near(s.vertices[0], {1, 4, 23}));
+    EXPECT_TRUE(near(s.vertices[1], {1, 8, 23}));
+    EXPECT_TRUE(near(s.vertices[2], {-2, 4, 23}));
+    EXPECT_TRUE(s.normals.empty()) << "no primitive has NORMAL";
+}
+
+TEST_F(GltfLoader, NormalsUseTheInverseTransposeAndAreNormalized)
+{
+    // Scale x by 2: M·n would give (2,1,0)/√5; the inverse transpose gives
+    // (1,2,0)/√5, which is also the normal of the scaled triangle.
+    GltfBuilder b = slantedTriangle({{"scale", {2, 1, 1}}});
+    Scene s = load(b);
+    ASSERT_EQ(s.normals.size(), 3u);
+    Vec3 expected = normalize(Vec3(1, 2, 0));
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_TRUE(near(s.normals[k], expected)) << "vertex " << k;
+        EXPECT_NEAR(length(s.normals[k]), 1.0f, 1e-6f);
+    }
+    EXPECT_TRUE(near(triangleNormal(s, 0), expected));
+}
+
+TEST_F(GltfLoader, MirroringKeepsNormalsAndWindingConsistent)
+{
+    // Mirror x: the normal (1,1,0)/√2 becomes (-1,1,0)/√2. glTF says a
+    // negative determinant turns the winding clockwise, so the winding the
+    // kernels see (counter-clockwise = front) must agree with that normal too.
+    GltfBuilder b = slantedTriangle({{"scale", {-1, 1, 1}}});
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 1u);
+    Vec3 expected = normalize(Vec3(-1, 1, 0));
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(s.normals[k], expected)) << "vertex " << k;
+    EXPECT_TRUE(near(triangleNormal(s, 0), expected)) << "winding of the mirrored triangle";
+    // The same three mirrored points, whatever their order.
+    for (Vec3 p : {Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, 1, 1)}) {
+        bool found = false;
+        for (int k = 0; k < 3; ++k) found |= bool(near(s.vertices[k], p));
+        EXPECT_TRUE(found) << "vertex (" << p.x << ", " << p.y << ", " << p.z << ")";
+    }
+}
+
+TEST_F(GltfLoader, IndexedAndNonIndexedPrimitives)
+{
+    GltfBuilder b;
+    // Non-indexed: two triangles, six vertices in order.
+    std::vector<Vec3> soup = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 0, 0}, {6, 0, 0}, {5, 1, 0}};
+    int soupPos = b.addVec3s(soup);
+    // Indexed: a quad of four vertices, two triangles sharing an edge.
+    std::vector<Vec3> quad = {{0, 0, 2}, {1, 0, 2}, {0, 1, 2}, {1, 1, 2}};
+    int quadPos = b.addVec3s(quad);
+    std::vector<uint16_t> quadIndices = {0, 1, 2, 2, 1, 3};
+    int idx = b.addIndices(quadIndices);
+    b.addNode({{"mesh", b.addMesh({primitive(soupPos), primitive(quadPos, -1, idx)})}});
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 4u);
+    for (size_t i = 0; i < soup.size(); ++i) EXPECT_TRUE(near(s.vertices[i], soup[i])) << "soup vertex " << i;
+    for (size_t i = 0; i < quadIndices.size(); ++i)
+        EXPECT_TRUE(near(s.vertices[6 + i], quad[quadIndices[i]])) << "quad index " << i;
+}
+
+TEST_F(GltfLoader, IndexComponentTypes)
+{
+    // Each index type, read from an accessor that starts one index into its
+    // view (the leading index is junk that must not be read).
+    std::vector<Vec3> quad = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+    std::vector<uint32_t> indices = {9, 0, 1, 2, 2, 1, 3};
+    for (int type : {kUnsignedByte, kUnsignedShort, kUnsignedInt}) {
+        SCOPED_TRACE("componentType " + std::to_string(type));
+        size_t size = type == kUnsignedByte ? 1 : type == kUnsignedShort ? 2 : 4;
+        std::vector<unsigned char> bytes(indices.size() * size);
+        for (size_t i = 0; i < indices.size(); ++i) {
+            uint32_t v = indices[i];
+            uint16_t v16 = uint16_t(v);
+            uint8_t v8 = uint8_t(v);
+            std::memcpy(&bytes[i * size], size == 1 ? (void*)&v8 : size == 2 ? (void*)&v16 : (void*)&v, size);
+        }
+        GltfBuilder b;
+        int pos = b.addVec3s(quad);
+        int idx = b.addAccessor(b.addView(bytes.data(), bytes.size()), type, "SCALAR", indices.size() - 1, size);
+        b.addNode({{"mesh", b.addMesh({primitive(pos, -1, idx)})}});
+        Scene s = load(b, "indices" + std::to_string(type));
+        ASSERT_EQ(s.triangleCount(), 2u);
+        for (size_t i = 1; i < indices.size(); ++i)
+            EXPECT_TRUE(near(s.vertices[i - 1], quad[indices[i]])) << "index " << i - 1;
+    }
+}
+
+TEST_F(GltfLoader, InterleavedPositionAndNormalWithByteStride)
+{
+    // One view of 28-byte vertices: position, normal, 4 bytes of padding.
+    std::vector<Vec3> positions = {{0, 0, 0}, {2, 0, 0}, {0, 0, -2}};
+    std::vector<Vec3> normals = {{0, 1, 0}, normalize(Vec3(0, 1, 1)), normalize(Vec3(1, 1, 0))};
+    const int stride = 28;
+    std::vector<unsigned char> bytes(positions.size() * stride, 0xff);
+    for (size_t i = 0; i < positions.size(); ++i) {
+        std::memcpy(&bytes[i * stride], &positions[i], 12);
+        std::memcpy(&bytes[i * stride + 12], &normals[i], 12);
+    }
+    GltfBuilder b;
+    int view = b.addView(bytes.data(), bytes.size(), stride);
+    int pos = b.addAccessor(view, kFloat, "VEC3", 3, 0);
+    int nrm = b.addAccessor(view, kFloat, "VEC3", 3, 12);
+    b.addNode({{"mesh", b.addMesh({primitive(pos, nrm)})}});
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 1u);
+    ASSERT_EQ(s.normals.size(), 3u);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_TRUE(near(s.vertices[k], positions[k])) << "vertex " << k;
+        EXPECT_TRUE(near(s.normals[k], normals[k])) << "normal " << k;
+    }
+}
+
+TEST_F(GltfLoader, PrimitivesWithoutNormalsGetGeometricNormalsOnceAnyHasThem)
+{
+    // First a primitive without NORMAL, then one with: the first is filled in
+    // with its geometric normal so the normal array stays per-vertex.
+    GltfBuilder b;
+    int pos = b.addVec3s({{0, 0, 0}, {0, 0, 1}, {0, 1, 0}}); // normal -x by winding
+    int withNormals = b.addVec3s(kTriangle);
+    int nrm = b.addVec3s({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+    b.addNode({{"mesh", b.addMesh({primitive(pos), primitive(withNormals, nrm)})}});
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 2u);
+    ASSERT_EQ(s.normals.size(), 6u);
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(s.normals[k], {-1, 0, 0})) << "vertex " << k;
+    for (int k = 3; k < 6; ++k) EXPECT_TRUE(near(s.normals[k], {0, 0, 1})) << "vertex " << k;
+}
+
+TEST_F(GltfLoader, ZeroScaleNodeIsSkippedWithAWarning)
+{
+    GltfBuilder b = oneTriangle();
+    b.addNode({{"mesh", 0}, {"translation", {5, 5, 5}}, {"scale", {0, 0, 0}}});
+    Scene s = load(b);
+    EXPECT_EQ(s.triangleCount(), 1u);
+    EXPECT_TRUE(anyWarningContains(s, "zero-scale"));
+    for (const Vec3& v : s.vertices) EXPECT_LT(v.x, 2.0f) << "a vertex of the zero-scale node";
+}
+
+TEST_F(GltfLoader, BinaryGlbLoads)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["nodes"][0]["translation"] = {0, 0, -3};
+    Scene s = loadGltf(b.writeGlb(dir_, "scene"));
+    ASSERT_EQ(s.triangleCount(), 1u);
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(s.vertices[k], kTriangle[k] + Vec3(0, 0, -3)));
+    ASSERT_EQ(s.normals.size(), 3u);
+    EXPECT_TRUE(near(s.normals[0], {0, 0, 1}));
+    EXPECT_EQ(s.materials.at(0).lobes, LOBE_DIFFUSE | LOBE_GGX_REFLECTION);
+}
+
+// ------------------------------------------------------------------- cameras
+
+json perspective(double yfov, double aspectRatio = 0)
+{
+    json p = {{"yfov", yfov}, {"znear", 0.01}};
+    if (aspectRatio > 0) p["aspectRatio"] = aspectRatio;
+    return {{"type", "perspective"}, {"perspective", p}};
+}
+
+TEST_F(GltfLoader, CameraFromNodeTransform)
+{
+    // Parent translates by (1,2,3); the camera node turns 90° about y, so its
+    // -z (the view direction) becomes -x and its +y stays +y.
+    GltfBuilder b = oneTriangle();
+    b.j["cameras"] = json::array({perspective(0.9, 1.5)});
+    int cam = b.addNode({{"camera", 0}, {"translation", {0, 0, 1}}, {"rotation", {0, kHalfSqrt2, 0, kHalfSqrt2}}},
+                        false);
+    b.addNode({{"translation", {1, 2, 3}}, {"children", {cam}}});
+    Scene s = load(b);
+    ASSERT_TRUE(s.cameraFromFile);
+    EXPECT_TRUE(near(s.camera.position, {1, 2, 4}));
+    EXPECT_TRUE(near(s.camera.forward, {-1, 0, 0}));
+    EXPECT_TRUE(near(s.camera.up, {0, 1, 0}));
+    EXPECT_FLOAT_EQ(s.camera.yfov, 0.9f);
+    EXPECT_FLOAT_EQ(s.camera.aspectRatio, 1.5f);
+    EXPECT_FALSE(anyWarningContains(s, "camera"));
+}
+
+TEST_F(GltfLoader, CameraUpFollowsRollAndAspectRatioIsOptional)
+{
+    // Rolled 90° about z: forward stays -z, up becomes -x.
+    GltfBuilder b = oneTriangle();
+    b.j["cameras"] = json::array({perspective(0.5)});
+    b.addNode({{"camera", 0}, {"rotation", {0, 0, kHalfSqrt2, kHalfSqrt2}}});
+    Scene s = load(b);
+    ASSERT_TRUE(s.cameraFromFile);
+    EXPECT_TRUE(near(s.camera.forward, {0, 0, -1}));
+    EXPECT_TRUE(near(s.camera.up, {-1, 0, 0}));
+    EXPECT_EQ(s.camera.aspectRatio, 0.0f) << "no aspectRatio in the file";
+}
+
+TEST_F(GltfLoader, FirstPerspectiveCameraWins)
+{
+    // Traversal meets the orthographic camera first (ignored), then camera 2
+    // at x = 1, then camera 1 at x = 2.
+    GltfBuilder b = oneTriangle();
+    b.j["cameras"] = json::array({{{"type", "orthographic"},
+                                   {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
+                                  perspective(0.8), perspective(0.5)});
+    b.addNode({{"camera", 0}, {"translation", {7, 0, 0}}});
+    b.addNode({{"camera", 2}, {"translation", {1, 0, 0}}});
+    b.addNode({{"camera", 1}, {"translation", {2, 0, 0}}});
+    Scene s = load(b);
+    ASSERT_TRUE(s.cameraFromFile);
+    EXPECT_FLOAT_EQ(s.camera.yfov, 0.5f);
+    EXPECT_TRUE(near(s.camera.position, {1, 0, 0}));
+}
+
+TEST_F(GltfLoader, OrthographicOnlyGivesWarningAndDefaultCamera)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["cameras"] = json::array(
+        {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}}});
+    b.addNode({{"camera", 0}, {"translation", {7, 0, 0}}});
+    Scene s = load(b);
+    EXPECT_FALSE(s.cameraFromFile);
+    EXPECT_TRUE(anyWarningContains(s, "orthographic"));
+    EXPECT_TRUE(anyWarningContains(s, "no perspective camera"));
+    CameraView framing = framingCamera(s.bounds(), 0.0f);
+    EXPECT_TRUE(near(s.camera.position, framing.position));
+    EXPECT_TRUE(near(s.camera.forward, {0, 0, -1}));
+}
+
+TEST_F(GltfLoader, NoCameraGivesWarningAndFramingCamera)
+{
+    GltfBuilder b = oneTriangle();
+    Scene s = load(b);
+    EXPECT_FALSE(s.cameraFromFile);
+    EXPECT_TRUE(anyWarningContains(s, "no perspective camera"));
+    // The framing camera looks at the triangle's bounds from +z.
+    EXPECT_TRUE(near(s.camera.position, framingCamera(s.bounds(), 0.0f).position));
+    EXPECT_NEAR(s.camera.position.x, 0.5f, 1e-5f);
+    EXPECT_NEAR(s.camera.position.y, 0.5f, 1e-5f);
+    EXPECT_GT(s.camera.position.z, 0.5f);
+    EXPECT_TRUE(near(s.camera.forward, {0, 0, -1}));
+}
+
+// -------------------------------------------------------------------- lights
+
+// oneTriangle() plus the given KHR_lights_punctual lights.
+GltfBuilder withLights(const json& lights)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["extensionsUsed"] = {"KHR_lights_punctual"};
+    b.j["extensions"]["KHR_lights_punctual"]["lights"] = lights;
+    return b;
+}
+
+json lightRef(int light) { return {{"KHR_lights_punctual", {{"light", light}}}}; }
+
+TEST_F(GltfLoader, PointLight)
+{
+    GltfBuilder b = withLights(json::array({{{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 4}}}));
+    b.addNode({{"translation", {1, 2, 3}}, {"extensions", lightRef(0)}});
+    Scene s = load(b);
+    ASSERT_EQ(s.lights.size(), 1u);
+    const PunctualLight& l = s.lights[0];
+    EXPECT_EQ(l.type, LIGHT_POINT);
+    EXPECT_TRUE(near({l.position[0], l.position[1], l.position[2]}, {1, 2, 3}));
+    EXPECT_TRUE(near({l.intensity[0], l.intensity[1], l.intensity[2]}, {4, 2, 1})) << "intensity × color";
+    EXPECT_TRUE(s.features().pointLights);
+    EXPECT_FALSE(s.features().spotLights);
+    EXPECT_FALSE(s.features().directionalLights);
+    EXPECT_FALSE(anyWarningContains(s, "KHR_lights_punctual")) << "KHR_lights_punctual is supported";
+}
+
+TEST_F(GltfLoader, SpotLight)
+{
+    // Turned -90° about x: the light's -z points down (-y). Colour defaults to white.
+    GltfBuilder b = withLights(json::array(
+        {{{"type", "spot"}, {"intensity", 10}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}}}));
+    b.addNode({{"translation", {0, 3, 0}}, {"rotation", {-kHalfSqrt2, 0, 0, kHalfSqrt2}}, {"extensions", lightRef(0)}});
+    Scene s = load(b);
+    ASSERT_EQ(s.lights.size(), 1u);
+    const PunctualLight& l = s.lights[0];
+    EXPECT_EQ(l.type, LIGHT_SPOT);
+    EXPECT_TRUE(near({l.position[0], l.position[1], l.position[2]}, {0, 3, 0}));
+    EXPECT_TRUE(near({l.direction[0], l.direction[1], l.direction[2]}, {0, -1, 0}));
+    EXPECT_TRUE(near({l.intensity[0], l.intensity[1], l.intensity[2]}, {10, 10, 10}));
+    EXPECT_NEAR(l.cosInnerCone, std::cos(0.2), 1e-6);
+    EXPECT_NEAR(l.cosOuterCone, std::cos(0.5), 1e-6);
+    EXPECT_TRUE(s.features().spotLights);
+}
+
+TEST_F(GltfLoader, DirectionalLightPointsAlongNodeMinusZInWorldSpace)
+{
+    // Child turns -z to -y (-90° about x); the parent scales y by 3 and turns
+    // 90° about z, taking -y to +x. The direction is normalized.
+    GltfBuilder b = withLights(json::array({{{"type", "directional"}, {"color", {0.5, 1, 0}}, {"intensity", 2}}}));
+    int child = b.addNode({{"rotation", {-kHalfSqrt2, 0, 0, kHalfSqrt2}}, {"extensions", lightRef(0)}}, false);
+    b.addNode({{"rotation", {0, 0, kHalfSqrt2, kHalfSqrt2}}, {"scale", {1, 3, 1}}, {"children", {child}}});
+    Scene s = load(b);
+    ASSERT_EQ(s.lights.size(), 1u);
+    const PunctualLight& l = s.lights[0];
+    EXPECT_EQ(l.type, LIGHT_DIRECTIONAL);
+    EXPECT_TRUE(near({l.direction[0], l.direction[1], l.direction[2]}, {1, 0, 0}));
+    EXPECT_TRUE(near({l.intensity[0], l.intensity[1], l.intensity[2]}, {1, 2, 0}));
+    EXPECT_TRUE(s.features().directionalLights);
+}
+
+TEST_F(GltfLoader, BadSpotConeAnglesThrow)
+{
+    struct Cone {
+        double inner, outer;
+    };
+    int n = 0;
+    for (Cone c : {Cone{0.5, 0.5}, Cone{0.6, 0.5}, Cone{0.0, 2.0}, Cone{-0.1, 0.5}}) {
+        SCOPED_TRACE("inner " + std::to_string(c.inner) + ", outer " + std::to_string(c.outer));
+        GltfBuilder b = withLights(json::array(
+            {{{"type", "spot"}, {"spot", {{"innerConeAngle", c.inner}, {"outerConeAngle", c.outer}}}}}));
+        b.addNode({{"extensions", lightRef(0)}});
+        expectLoadError(b.writeGltf(dir_, "cone" + std::to_string(n++)), "cone");
+    }
+}
+
+// ----------------------------------------------------------------- materials
+
+TEST_F(GltfLoader, MaterialPureLambert)
+{
+    Material m = loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}},
+                               {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}});
+    EXPECT_EQ(m.lobes, LOBE_DIFFUSE);
+    EXPECT_EQ(m.specular, 0.0f);
+}
+
+TEST_F(GltfLoader, MaterialDefaultDielectric)
+{
+    Material m = loadMaterial(
+        {{"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.6, 0.4, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.5}}}});
+    EXPECT_EQ(m.lobes, LOBE_DIFFUSE | LOBE_GGX_REFLECTION);
+    EXPECT_FLOAT_EQ(m.baseColor[0], 0.8f);
+    EXPECT_FLOAT_EQ(m.baseColor[1], 0.6f);
+    EXPECT_FLOAT_EQ(m.baseColor[2], 0.4f);
+    EXPECT_FLOAT_EQ(m.roughness, 0.5f);
+    EXPECT_FLOAT_EQ(m.specular, 1.0f);
+    EXPECT_FLOAT_EQ(m.ior, 1.5f);
+}
+
+TEST_F(GltfLoader, MaterialSmoothMetal)
+{
+    Material m = loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}});
+    EXPECT_EQ(m.lobes, LOBE_DELTA_REFLECTION);
+}
+
+TEST_F(GltfLoader, MaterialGlass)
+{
+    Material m = loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+                               {"extensions",
+                                {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+                                 {"KHR_materials_ior", {{"ior", 1.5}}},
+                                 {"KHR_materials_volume", {{"thicknessFactor", 0.1}}}}}});
+    EXPECT_EQ(m.lobes, LOBE_DELTA_REFLECTION | LOBE_DELTA_TRANSMISSION);
+    EXPECT_EQ(m.lobes & LOBE_DIFFUSE, 0u);
+    EXPECT_EQ(m.thinWalled, 0);
+    EXPECT_FLOAT_EQ(m.transmission, 1.0f);
+    EXPECT_FLOAT_EQ(m.ior, 1.5f);
+}
+
+TEST_F(GltfLoader, MaterialRoughGlass)
+{
+    Material m = loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 0.3}}},
+                               {"extensions",
+                                {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+                                 {"KHR_materials_volume", {{"thicknessFactor", 1.0}}}}}});
+    EXPECT_EQ(m.lobes, LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION);
+}
+
+TEST_F(GltfLoader, MaterialTransmissionWithoutVolumeIsThinWalled)
+{
+    Material m = loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+                               {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}}}});
+    EXPECT_EQ(m.thinWalled, 1);
+    EXPECT_EQ(m.lobes, LOBE_DELTA_REFLECTION | LOBE_DELTA_TRANSMISSION);
+}
+
+TEST_F(GltfLoader, MaterialVolumeWithZeroThicknessIsThinWalled)
+{
+    Material m = loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+                               {"extensions",
+                                {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+                                 {"KHR_materials_volume", {{"thicknessFactor", 0.0}}}}}});
+    EXPECT_EQ(m.thinWalled, 1);
+}
+
+TEST_F(GltfLoader, MaterialEmissionIsFactorTimesStrength)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["materials"][0]["emissiveFactor"] = {1, 0.5, 0.25};
+    b.j["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 4;
+    Scene s = load(b);
+    const Material& m = s.materials.at(s.triangleMaterial.at(0));
+    EXPECT_FLOAT_EQ(m.emission[0], 4.0f);
+    EXPECT_FLOAT_EQ(m.emission[1], 2.0f);
+    EXPECT_FLOAT_EQ(m.emission[2], 1.0f);
+    EXPECT_TRUE(s.features().emissiveTriangles);
+}
+
+TEST_F(GltfLoader, MaterialIor1GlassHasNoReflection)
+{
+    // An interface of ior 1 reflects nothing: only the transmission lobe.
+    Material m = loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+                               {"extensions",
+                                {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+                                 {"KHR_materials_ior", {{"ior", 1.0}}}}}});
+    EXPECT_EQ(m.lobes, LOBE_DELTA_TRANSMISSION);
+}
+
+TEST_F(GltfLoader, MaterialIorBelowOneThrows)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["materials"][0]["extensions"]["KHR_materials_ior"]["ior"] = 0.5;
+    expectLoadError(b.writeGltf(dir_, "scene"), "ior");
+}
+
+TEST_F(GltfLoader, PrimitiveWithoutMaterialGetsTheGltfDefault)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["meshes"][0]["primitives"][0].erase("material");
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 1u);
+    const Material& m = s.materials.at(s.triangleMaterial[0]);
+    EXPECT_EQ(s.triangleMaterial[0], 1) << "appended after the file's one material";
+    EXPECT_FLOAT_EQ(m.metallic, 1.0f);
+    EXPECT_FLOAT_EQ(m.roughness, 1.0f);
+    EXPECT_FLOAT_EQ(m.baseColor[0], 1.0f);
+    EXPECT_EQ(m.lobes, LOBE_GGX_REFLECTION);
+}
+
+TEST_F(GltfLoader, BaseColorTextureWarns)
+{
+    // The image file only has to exist: images are not decoded.
+    GltfBuilder b = oneTriangle();
+    const char png[] = "not really a png";
+    writeFile(dir_ / "tex.png", png, sizeof png);
+    b.j["images"] = json::array({{{"uri", "tex.png"}}});
+    b.j["textures"] = json::array({{{"source", 0}}});
+    b.j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    Scene s = load(b);
+    EXPECT_EQ(s.triangleCount(), 1u);
+    EXPECT_TRUE(anyWarningContains(s, "texture"));
+    EXPECT_FLOAT_EQ(s.materials.at(0).baseColor[0], 0.5f) << "the factor is still used";
+}
+
+// ---------------------------------------------------------------- background
+
+TEST_F(GltfLoader, BackgroundFromSceneExtras)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["scenes"][0]["extras"]["background"] = {0.1, 0.2, 0.3};
+    Scene s = load(b);
+    EXPECT_TRUE(near(s.background, {0.1f, 0.2f, 0.3f}, 1e-7f));
+    EXPECT_TRUE(s.features().background);
+
+    GltfBuilder none = oneTriangle();
+    EXPECT_FALSE(load(none, "none").features().background);
+}
+
+TEST_F(GltfLoader, MalformedBackgroundThrows)
+{
+    int n = 0;
+    for (json bg : {json{0.1, 0.2}, json{0.1, -1.0, 0.2}, json{0.1, 0.2, 0.3, 0.4}, json("white"),
+                    json{0.1, "x", 0.2}}) {
+        SCOPED_TRACE(bg.dump());
+        GltfBuilder b = oneTriangle();
+        b.j["scenes"][0]["extras"]["background"] = bg;
+        expectLoadError(b.writeGltf(dir_, "bg" + std::to_string(n++)), "background");
+    }
+}
+
+// -------------------------------------------------------------------- errors
+
+TEST_F(GltfLoader, MissingFileThrows)
+{
+    expectLoadError((dir_ / "does-not-exist.gltf").string(), "no such file");
+}
+
+TEST_F(GltfLoader, TruncatedJsonThrows)
+{
+    GltfBuilder b = oneTriangle();
+    std::string path = b.writeGltf(dir_, "scene");
+    fs::resize_file(path, fs::file_size(path) / 2);
+    expectLoadError(path, "parse");
+}
+
+TEST_F(GltfLoader, MalformedJsonThrows)
+{
+    std::string text = "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"mesh\": 0,]]}";
+    writeFile(dir_ / "bad.gltf", text.data(), text.size());
+    expectLoadError((dir_ / "bad.gltf").string(), "parse");
+}
+
+TEST_F(GltfLoader, TruncatedGlbThrows)
+{
+    GltfBuilder b = oneTriangle();
+    std::string path = b.writeGlb(dir_, "scene");
+    for (uintmax_t size : {fs::file_size(path) - 4, fs::file_size(path) / 2, uintmax_t(10)}) {
+        SCOPED_TRACE("truncated to " + std::to_string(size) + " bytes");
+        fs::resize_file(path, size);
+        expectLoadError(path, "parse");
+    }
+}
+
+TEST_F(GltfLoader, AccessorPastTheEndOfItsBufferViewThrows)
+{
+    // Thirty positions claimed, three stored.
+    GltfBuilder b = oneTriangle();
+    b.j["accessors"][0]["count"] = 30;
+    expectLoadError(b.writeGltf(dir_, "scene"), "accessor needs");
+}
+
+TEST_F(GltfLoader, AccessorOffsetPastTheEndOfItsBufferViewThrows)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["accessors"][1]["byteOffset"] = 1000000000000000;
+    expectLoadError(b.writeGltf(dir_, "scene"), "accessor needs");
+}
+
+TEST_F(GltfLoader, BufferViewPastTheEndOfItsBufferThrows)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["bufferViews"][1]["byteLength"] = 4096;
+    expectLoadError(b.writeGltf(dir_, "scene"), "past the end");
+}
+
+TEST_F(GltfLoader, BinFileShorterThanItsBufferThrows)
+{
+    GltfBuilder b = oneTriangle();
+    std::string path = b.writeGltf(dir_, "scene");
+    fs::resize_file(dir_ / "scene.bin", 20);
+    expectLoadError(path, "parse");
+}
+
+TEST_F(GltfLoader, IndexOutOfRangeThrows)
+{
+    GltfBuilder b;
+    int pos = b.addVec3s(kTriangle);
+    int idx = b.addIndices(std::vector<uint16_t>{0, 1, 7});
+    b.addNode({{"mesh", b.addMesh({primitive(pos, -1, idx)})}});
+    expectLoadError(b.writeGltf(dir_, "scene"), "index 7 out of range");
+}
+
+TEST_F(GltfLoader, IndexCountNotAMultipleOfThreeThrows)
+{
+    GltfBuilder b;
+    int pos = b.addVec3s(kTriangle);
+    int idx = b.addIndices(std::vector<uint32_t>{0, 1, 2, 0});
+    b.addNode({{"mesh", b.addMesh({primitive(pos, -1, idx)})}});
+    expectLoadError(b.writeGltf(dir_, "scene"), "multiple of 3");
+}
+
+TEST_F(GltfLoader, NaNPositionThrows)
+{
+    GltfBuilder b;
+    float nan = std::numeric_limits<float>::quiet_NaN();
+    int pos = b.addVec3s({{0, 0, 0}, {1, nan, 0}, {0, 1, 0}});
+    b.addNode({{"mesh", b.addMesh({primitive(pos)})}});
+    expectLoadError(b.writeGltf(dir_, "scene"), "NaN");
+}
+
+TEST_F(GltfLoader, LinesPrimitiveThrows)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["meshes"][0]["primitives"][0]["mode"] = 1;
+    expectLoadError(b.writeGltf(dir_, "scene"), "LINES");
+}
+
+TEST_F(GltfLoader, RequiredUnsupportedExtensionThrows)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+    b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    expectLoadError(b.writeGltf(dir_, "scene"), "KHR_draco_mesh_compression");
+}
+
+TEST_F(GltfLoader, UsedUnsupportedExtensionWarns)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["extensionsUsed"] = {"KHR_materials_clearcoat"};
+    Scene s = load(b);
+    EXPECT_TRUE(anyWarningContains(s, "KHR_materials_clearcoat"));
+}
+
+TEST_F(GltfLoader, NodeCycleThrows)
+{
+    // Node 1 and node 2 are each other's child: an error, not an endless loop.
+    GltfBuilder b = oneTriangle();
+    b.addNode({{"mesh", 0}, {"children", {2}}});
+    b.addNode({{"children", {1}}}, false);
+    expectLoadError(b.writeGltf(dir_, "scene"), "cycle");
+}
+
+TEST_F(GltfLoader, SceneWithoutTrianglesThrows)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["scenes"][0]["nodes"] = json::array();
+    b.addNode({{"translation", {1, 2, 3}}});
+    expectLoadError(b.writeGltf(dir_, "scene"), "no triangles");
+}
+
+// --------------------------------------------------------------- Cornell box
+
+TEST_F(GltfLoader, BundledCornellBox)
+{
+    Scene s = loadGltf(std::string(WAVEVCM_SOURCE_DIR) + "/scenes/cornell-box.gltf");
+    EXPECT_EQ(s.triangleCount(), 1932u);
+    EXPECT_EQ(s.vertices.size(), 3 * s.triangleCount());
+    EXPECT_TRUE(s.cameraFromFile);
+    SceneFeatures f = s.features();
+    EXPECT_TRUE(f.emissiveTriangles);
+    EXPECT_TRUE(f.vertexNormals);
+    EXPECT_EQ(s.normals.size(), s.vertices.size());
+    EXPECT_TRUE(f.lobes & LOBE_DIFFUSE);
+    EXPECT_TRUE(f.lobes & LOBE_DELTA_REFLECTION);
+    EXPECT_TRUE(f.lobes & LOBE_DELTA_TRANSMISSION);
+    for (size_t i = 0; i < s.normals.size(); i += 97)
+        EXPECT_NEAR(length(s.normals[i]), 1.0f, 1e-5f) << "normal " << i;
+}
+
+} // namespace
+} // namespace wv
