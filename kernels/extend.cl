@@ -1,20 +1,21 @@
-/* extend: closest hit for every ray in the ray queue. */
+/* extend: closest hit for every ray in the ray queue, sorted into the hit
+ * queue (to shade) or the escaped queue. */
 #include "bvh_traversal.h"
 #include "path_state.h"
-#include "queue_ids.h"
+#include "queues.h"
 
-__kernel void extend(__global const BvhNode* nodes, __global const float4* triVertices,
-                     __global const int* queueItems, __global const int* queueCounters,
+__kernel void extend(__global const BvhNode* nodes, __global const float4* triVertices, int capacity,
+                     int rayQueue, __global int* queueItems, __global int* queueCounters,
                      __global const float4* rayOrigins, __global const float4* rayDirections,
                      __global float* hitT, __global int* hitTriangle, __global float2* hitBary)
 {
-    int i = get_global_id(0);
-    if (i >= queueCounters[QUEUE_RAYS])
+    int slot = queue_item(queueItems, queueCounters, capacity, rayQueue, get_global_id(0));
+    if (slot < 0)
         return;
-    int slot = queueItems[i];
     Hit hit;
-    trace_ray(nodes, triVertices, load_ray(rayOrigins, rayDirections, slot), false, &hit);
+    bool found = trace_ray(nodes, triVertices, load_ray(rayOrigins, rayDirections, slot), false, &hit);
     hitTriangle[slot] = hit.triangle;
-    hitT[slot] = hit.triangle >= 0 ? hit.t : INFINITY;
+    hitT[slot] = found ? hit.t : INFINITY;
     hitBary[slot] = (float2)(hit.b1, hit.b2);
+    queue_push(queueItems, queueCounters, capacity, found ? QUEUE_HITS : QUEUE_ESCAPED, slot);
 }

@@ -1,10 +1,21 @@
-/* Indices of the queue counters in the counter buffer and of the statistics
- * counters after them; shared by host and kernels. */
+/* The work queues and counters, shared by host and kernels.
+ *
+ * Every queue is an array of path-slot indices (queue q occupies
+ * items[q·capacity, (q+1)·capacity)) and a counter in the counter buffer.
+ * Rays and free slots ping-pong between two queues by round parity: a round
+ * consumes RAYS(p) and FREE(p) and fills RAYS(1−p) and FREE(1−p). */
 #ifndef WAVEVCM_QUEUE_IDS_H
 #define WAVEVCM_QUEUE_IDS_H
 
-#define QUEUE_RAYS 0          /* rays to extend */
-#define COUNTER_NONFINITE 1   /* samples dropped because they were NaN or Inf */
-#define COUNTER_COUNT 2
+#define QUEUE_HITS 0    /* extended rays that hit a surface: to shade */
+#define QUEUE_ESCAPED 1 /* extended rays that left the scene */
+#define QUEUE_SHADOW 2  /* shadow rays to connect */
+#define QUEUE_RAYS(parity) (3 + 2 * (parity)) /* rays to extend */
+#define QUEUE_FREE(parity) (4 + 2 * (parity)) /* slots whose path ended: to regenerate */
+#define QUEUE_COUNT 7
+
+#define COUNTER_NEXT_SAMPLE 7 /* samples of this iteration handed out so far */
+#define COUNTER_NONFINITE 8   /* samples dropped because they were NaN or Inf (all iterations) */
+#define COUNTER_COUNT 9
 
 #endif

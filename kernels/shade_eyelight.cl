@@ -1,27 +1,25 @@
 /* shade_eyelight (`-a el`): radiance = |cos| between the primary ray and the
- * shading normal at the first hit, 0 where the ray escapes. Exercises scene,
- * BVH, kernels and output before any light transport exists. */
+ * shading normal at the first hit (0 where the ray escapes). Exercises scene,
+ * BVH, kernels and output before any light transport. */
 #include "path_state.h"
-#include "queue_ids.h"
+#include "queues.h"
 #include "surface.h"
 
 __kernel void shade_eyelight(__global const float4* triVertices, __global const float4* triNormals,
-                             __global const int* queueItems, __global const int* queueCounters,
-                             __global const float4* rayDirections, __global const int* hitTriangle,
-                             __global const float2* hitBary, __global float4* sampleRadiance)
+                             int capacity, int freeQueue, __global int* queueItems,
+                             __global int* queueCounters, __global const float4* rayDirections,
+                             __global const int* hitTriangle, __global const float2* hitBary,
+                             __global const int* pathPixel, __global float4* pixelRadiance)
 {
-    int i = get_global_id(0);
-    if (i >= queueCounters[QUEUE_RAYS])
+    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
+    if (slot < 0)
         return;
-    int slot = queueItems[i];
     int tri = hitTriangle[slot];
-    float value = 0.0f;
-    if (tri >= 0) {
-        float3 n = geometric_normal(triVertices, tri);
+    float3 n = geometric_normal(triVertices, tri);
 #ifdef HAS_VERTEX_NORMALS
-        n = shading_normal(triNormals, tri, hitBary[slot], n);
+    n = shading_normal(triNormals, tri, hitBary[slot], n);
 #endif
-        value = fabs(dot(normalize(rayDirections[slot].xyz), n));
-    }
-    sampleRadiance[slot] = (float4)(value, value, value, 0.0f);
+    float value = fabs(dot(normalize(rayDirections[slot].xyz), n));
+    pixelRadiance[pathPixel[slot]] += (float4)(value, value, value, 0.0f);
+    queue_push(queueItems, queueCounters, capacity, freeQueue, slot);
 }

@@ -70,18 +70,35 @@ typedef struct Material {
 #define LIGHT_POINT 0
 #define LIGHT_SPOT 1
 #define LIGHT_DIRECTIONAL 2
+#define LIGHT_TRIANGLE 3
+#define LIGHT_BACKGROUND 4
 
-/* A KHR_lights_punctual light in world space. Emissive triangles and the
- * background are lights too but are described by the triangle arrays and the
- * scene's background radiance. */
-typedef struct PunctualLight {
-    float position[3];
-    int type;
+/* One light of the scene's light table, in world space. The loader fills the
+ * punctual lights (KHR_lights_punctual); the renderer appends one entry per
+ * emissive triangle and one for the background, and sets the selection
+ * probabilities (proportional to emitted power). */
+typedef struct Light {
+    float position[3];  /* point, spot */
+    int type;           /* LIGHT_* */
     float direction[3]; /* unit vector the light points along (spot, directional) */
     float cosInnerCone;
-    float intensity[3]; /* W/sr for point and spot; irradiance for directional */
+    float emission[3];  /* intensity W/sr (point, spot); irradiance (directional);
+                           radiance (triangle, background) */
     float cosOuterCone;
-} PunctualLight;
+    int triangle;       /* BVH-ordered triangle index (triangle lights) */
+    float area;         /* triangle area */
+    float pmf;          /* probability of selecting this light */
+    float pad;
+} Light;
+
+/* Scene-wide constants the kernels need besides the arrays. */
+typedef struct SceneInfo {
+    float center[3]; /* bounding sphere, for infinite lights */
+    float radius;
+    int lightCount;
+    int backgroundLight; /* index in the light table, -1 if none */
+    int pad[2];
+} SceneInfo;
 
 #ifndef __OPENCL_VERSION__
 } /* namespace wv */

@@ -70,8 +70,8 @@ struct Hits {
 class Tracer {
 public:
     Tracer(const DeviceInfo& info, const Scene& scene)
-        : device_(info), bvh_(buildBvh(scene.vertices)), buffers_(device_, scene, bvh_),
-          program_(test::buildTestProgram(device_, {"extend.cl", "connect.cl", test::testKernel("trace_tests.cl")})),
+        : device_(info), bvh_(buildBvh(scene.vertices)), buffers_(device_, scene, bvh_, buildLightTable(scene, bvh_)),
+          program_(test::buildTestProgram(device_, {"extend.cl", test::testKernel("trace_tests.cl")})),
           triangleCount_(int(scene.triangleCount()))
     {
     }
@@ -85,9 +85,8 @@ public:
     {
         Inputs in(device_, rays);
         cl::Buffer occluded = deviceBuffer(device_, rays.size() * 4, "occlusion");
-        cl::Kernel k(program_, "connect");
-        setArgs(k, buffers_.nodes, buffers_.triVertices, in.items, in.counters, int(QUEUE_RAYS), in.origins,
-                in.directions, occluded);
+        cl::Kernel k(program_, "any_hit");
+        setArgs(k, buffers_.nodes, buffers_.triVertices, in.origins, in.directions, int(rays.size()), occluded);
         device_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(rays.size())), cl::NDRange(64));
         std::vector<int> out(rays.size());
         device_.queue.enqueueReadBuffer(occluded, CL_TRUE, 0, out.size() * 4, out.data());
@@ -120,11 +119,12 @@ private:
             size_t n = rays.size();
             origins = uploadBuffer(dev, rays.origins.data(), n * 16, "origins");
             directions = uploadBuffer(dev, rays.directions.data(), n * 16, "directions");
-            std::vector<int> all(n);
-            for (size_t i = 0; i < n; ++i) all[i] = int(i);
-            items = uploadBuffer(dev, all.data(), n * 4, "queue");
+            // The extend kernel's ray queue RAYS(0) holds every ray.
+            std::vector<int> all(QUEUE_COUNT * n, 0);
+            for (size_t i = 0; i < n; ++i) all[QUEUE_RAYS(0) * n + i] = int(i);
+            items = uploadBuffer(dev, all.data(), all.size() * 4, "queue");
             int c[COUNTER_COUNT] = {};
-            c[QUEUE_RAYS] = int(n);
+            c[QUEUE_RAYS(0)] = int(n);
             counters = uploadBuffer(dev, c, sizeof c, "counters");
         }
     };
@@ -153,7 +153,8 @@ private:
                    bary = deviceBuffer(device_, n * 8, "bary");
         cl::Kernel k(program_, kernel.c_str());
         if (kernel == "extend")
-            setArgs(k, buffers_.nodes, buffers_.triVertices, in.items, in.counters, in.origins, in.directions, t, tri, bary);
+            setArgs(k, buffers_.nodes, buffers_.triVertices, int(n), int(QUEUE_RAYS(0)), in.items, in.counters,
+                    in.origins, in.directions, t, tri, bary);
         else
             setArgs(k, buffers_.triVertices, triangleCount_, in.origins, in.directions, int(n), t, tri);
         device_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(n)), cl::NDRange(64));

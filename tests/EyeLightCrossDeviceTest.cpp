@@ -26,8 +26,7 @@ Image renderEyeLight(const DeviceInfo& info, const Scene& scene, const Bvh& bvh,
     s.seed = 42;
     s.wavefront = 4096; // several wavefronts per iteration
     Renderer renderer(device, scene, bvh, s);
-    for (int i = 0; i < iterations; ++i) renderer.enqueueIteration();
-    renderer.finish();
+    for (int i = 0; i < iterations; ++i) renderer.iterate();
     EXPECT_EQ(renderer.nonFiniteCount(), 0u);
     return renderer.image();
 }
@@ -84,7 +83,7 @@ TEST(EyeLight, SeedControlsTheSamples)
         s.height = 48;
         s.seed = seed;
         Renderer renderer(device, scene, bvh, s);
-        renderer.enqueueIteration();
+        renderer.iterate();
         return renderer.image();
     };
     Image a = render(1), b = render(1), c = render(2);

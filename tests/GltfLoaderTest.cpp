@@ -528,10 +528,10 @@ TEST_F(GltfLoader, PointLight)
     b.addNode({{"translation", {1, 2, 3}}, {"extensions", lightRef(0)}});
     Scene s = load(b);
     ASSERT_EQ(s.lights.size(), 1u);
-    const PunctualLight& l = s.lights[0];
+    const Light& l = s.lights[0];
     EXPECT_EQ(l.type, LIGHT_POINT);
     EXPECT_TRUE(near({l.position[0], l.position[1], l.position[2]}, {1, 2, 3}));
-    EXPECT_TRUE(near({l.intensity[0], l.intensity[1], l.intensity[2]}, {4, 2, 1})) << "intensity × color";
+    EXPECT_TRUE(near({l.emission[0], l.emission[1], l.emission[2]}, {4, 2, 1})) << "intensity × color";
     EXPECT_TRUE(s.features().pointLights);
     EXPECT_FALSE(s.features().spotLights);
     EXPECT_FALSE(s.features().directionalLights);
@@ -546,11 +546,11 @@ TEST_F(GltfLoader, SpotLight)
     b.addNode({{"translation", {0, 3, 0}}, {"rotation", {-kHalfSqrt2, 0, 0, kHalfSqrt2}}, {"extensions", lightRef(0)}});
     Scene s = load(b);
     ASSERT_EQ(s.lights.size(), 1u);
-    const PunctualLight& l = s.lights[0];
+    const Light& l = s.lights[0];
     EXPECT_EQ(l.type, LIGHT_SPOT);
     EXPECT_TRUE(near({l.position[0], l.position[1], l.position[2]}, {0, 3, 0}));
     EXPECT_TRUE(near({l.direction[0], l.direction[1], l.direction[2]}, {0, -1, 0}));
-    EXPECT_TRUE(near({l.intensity[0], l.intensity[1], l.intensity[2]}, {10, 10, 10}));
+    EXPECT_TRUE(near({l.emission[0], l.emission[1], l.emission[2]}, {10, 10, 10}));
     EXPECT_NEAR(l.cosInnerCone, std::cos(0.2), 1e-6);
     EXPECT_NEAR(l.cosOuterCone, std::cos(0.5), 1e-6);
     EXPECT_TRUE(s.features().spotLights);
@@ -565,10 +565,10 @@ TEST_F(GltfLoader, DirectionalLightPointsAlongNodeMinusZInWorldSpace)
     b.addNode({{"rotation", {0, 0, kHalfSqrt2, kHalfSqrt2}}, {"scale", {1, 3, 1}}, {"children", {child}}});
     Scene s = load(b);
     ASSERT_EQ(s.lights.size(), 1u);
-    const PunctualLight& l = s.lights[0];
+    const Light& l = s.lights[0];
     EXPECT_EQ(l.type, LIGHT_DIRECTIONAL);
     EXPECT_TRUE(near({l.direction[0], l.direction[1], l.direction[2]}, {1, 0, 0}));
-    EXPECT_TRUE(near({l.intensity[0], l.intensity[1], l.intensity[2]}, {1, 2, 0}));
+    EXPECT_TRUE(near({l.emission[0], l.emission[1], l.emission[2]}, {1, 2, 0}));
     EXPECT_TRUE(s.features().directionalLights);
 }
 

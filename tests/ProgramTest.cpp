@@ -1,6 +1,7 @@
 // Kernel sources and programs: #include inlining with #line, the build log
 // on failure naming file and line, and the on-disk binary cache.
 #include "TestDevices.h"
+#include "render/Renderer.h"
 #include "Error.h"
 
 #include <gtest/gtest.h>
@@ -54,15 +55,19 @@ TEST(KernelSources, MissingIncludeNamesFileAndLine)
 
 TEST(KernelSources, EveryRenderKernelBuilds)
 {
-    // The production kernels compile on every device, with and without the
-    // optional vertex normals.
-    std::string source = expandKernelSources(findKernelDir(), {"generate.cl", "extend.cl", "connect.cl",
-                                                              "shade_eyelight.cl", "accumulate.cl"});
-    for (const DeviceInfo& info : test::devicesUnderTest()) {
-        SCOPED_TRACE(info.name);
-        DeviceContext device(info);
-        for (const char* options : {"-cl-std=CL1.2", "-cl-std=CL1.2 -DHAS_VERTEX_NORMALS"})
-            EXPECT_NO_THROW(buildProgram(device.context, info, source, options));
+    // The production kernels compile on every device with every feature on
+    // and with every feature off (the scene-specific builds lie in between).
+    for (Algorithm a : {Algorithm::EyeLight, Algorithm::PathTracing}) {
+        std::string source = expandKernelSources(findKernelDir(), Renderer::kernelFiles(a));
+        for (const DeviceInfo& info : test::devicesUnderTest()) {
+            SCOPED_TRACE(info.name + " " + algorithmName(a));
+            DeviceContext device(info);
+            for (const char* options :
+                 {"-cl-std=CL1.2 -DSCENE_LOBES=0u",
+                  "-cl-std=CL1.2 -DHAS_VERTEX_NORMALS -DSCENE_LOBES=31u -DHAS_POINT_LIGHTS "
+                  "-DHAS_DIRECTIONAL_LIGHTS -DHAS_EMISSIVE_TRIANGLES -DHAS_BACKGROUND"})
+                EXPECT_NO_THROW(buildProgram(device.context, info, source, options));
+        }
     }
 }
 

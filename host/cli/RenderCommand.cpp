@@ -57,7 +57,7 @@ int runRender(const RenderOptions& o)
     RenderSettings settings;
     settings.algorithm = parseAlgorithm(o.algorithm);
     if (!isImplemented(settings.algorithm))
-        throw Error("algorithm '" + o.algorithm + "' is not implemented yet (available: el)");
+        throw Error("algorithm '" + o.algorithm + "' is not implemented yet (available: el, pt)");
     // Check the output's format before the render, not after it.
     std::string ext = fs::path(o.output).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -87,10 +87,7 @@ int runRender(const RenderOptions& o)
     int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
     auto renderStart = std::chrono::steady_clock::now();
     do {
-        renderer.enqueueIteration();
-        // One wait per iteration: the time budget needs to know when it ends,
-        // and it costs ~70 µs against iterations of milliseconds or more.
-        renderer.finish();
+        renderer.iterate();
     } while ((spp == 0 || renderer.iterations() < spp) && (o.seconds == 0 || since(renderStart) < o.seconds));
     double renderSeconds = since(renderStart);
 

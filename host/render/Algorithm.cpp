@@ -29,6 +29,6 @@ std::string algorithmName(Algorithm a)
     return "?";
 }
 
-bool isImplemented(Algorithm a) { return a == Algorithm::EyeLight; }
+bool isImplemented(Algorithm a) { return a == Algorithm::EyeLight || a == Algorithm::PathTracing; }
 
 } // namespace wv

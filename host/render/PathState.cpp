@@ -3,12 +3,15 @@
 #include "../../kernels/queue_ids.h"
 #include "SceneBuffers.h"
 
+#include <numeric>
+#include <vector>
+
 namespace wv {
 
-size_t PathState::bytesPerPath()
-{
-    return 16 + 16 + 4 + 4 + 4 + 8 + 16 + 4;
-}
+// The per-slot element sizes, in the order of the members.
+static const size_t kFieldBytes[] = {16, 16, 4, 4, 16, 4, 4, 4, 8, 16, 16, 16, 4 * QUEUE_COUNT, 4};
+
+size_t PathState::bytesPerPath() { return std::accumulate(std::begin(kFieldBytes), std::end(kFieldBytes), size_t(0)); }
 
 PathState::PathState(DeviceContext& device, int capacity_) : capacity(capacity_)
 {
@@ -19,12 +22,21 @@ PathState::PathState(DeviceContext& device, int capacity_) : capacity(capacity_)
     };
     rayOrigins = buffer(16, "ray origins");
     rayDirections = buffer(16, "ray directions");
-    pathPixels = buffer(4, "pixels");
+    pathPixel = buffer(4, "pixels");
+    pathDepth = buffer(4, "depths");
+    pathThroughput = buffer(16, "throughput");
+    pathPrevPdf = buffer(4, "pdfs");
     hitT = buffer(4, "hit distances");
     hitTriangle = buffer(4, "hit triangles");
     hitBary = buffer(8, "barycentrics");
-    sampleRadiance = buffer(16, "radiance");
-    queueItems = buffer(4, "ray queue");
+    shadowOrigins = buffer(16, "shadow ray origins");
+    shadowDirections = buffer(16, "shadow ray directions");
+    shadowContribution = buffer(16, "shadow ray contributions");
+    queueItems = buffer(4 * QUEUE_COUNT, "queues");
+    std::vector<int> indices(n);
+    std::iota(indices.begin(), indices.end(), 0);
+    slotIndices = uploadBuffer(device, indices.data(), n * 4, "the slot indices");
+    bytes += n * 4;
     counters = deviceBuffer(device, COUNTER_COUNT * sizeof(int), "the queue counters");
     bytes += COUNTER_COUNT * sizeof(int);
 }

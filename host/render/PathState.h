@@ -1,6 +1,7 @@
 // Device buffers for one wavefront of paths, structure of arrays (one buffer
-// per field, indexed by path slot), plus the work queues. Sized by the
-// wavefront capacity, independent of the image size.
+// per field, indexed by path slot), plus the work queues
+// (kernels/queue_ids.h). Sized by the wavefront capacity, independent of the
+// image size.
 #pragma once
 
 #include "../cl/DeviceContext.h"
@@ -9,15 +10,21 @@ namespace wv {
 
 struct PathState {
     int capacity = 0;
-    cl::Buffer rayOrigins;     // float4
-    cl::Buffer rayDirections;  // float4, w = tMax
-    cl::Buffer pathPixels;     // int, -1 = slot unused
-    cl::Buffer hitT;           // float
-    cl::Buffer hitTriangle;    // int, -1 = miss
-    cl::Buffer hitBary;        // float2
-    cl::Buffer sampleRadiance; // float4
-    cl::Buffer queueItems;     // int, the ray queue
-    cl::Buffer counters;       // int[COUNTER_COUNT] (kernels/queue_ids.h)
+    cl::Buffer rayOrigins;        // float4
+    cl::Buffer rayDirections;     // float4, w = tMax
+    cl::Buffer pathPixel;         // int: the pixel (= sample) the path belongs to
+    cl::Buffer pathDepth;         // int: segments so far, the camera segment included
+    cl::Buffer pathThroughput;    // float4
+    cl::Buffer pathPrevPdf;       // float: solid-angle pdf of the last BSDF sample, 0 = delta or camera
+    cl::Buffer hitT;              // float
+    cl::Buffer hitTriangle;       // int
+    cl::Buffer hitBary;           // float2
+    cl::Buffer shadowOrigins;     // float4
+    cl::Buffer shadowDirections;  // float4, w = tMax
+    cl::Buffer shadowContribution;// float4
+    cl::Buffer queueItems;        // int[QUEUE_COUNT × capacity]
+    cl::Buffer counters;          // int[COUNTER_COUNT]
+    cl::Buffer slotIndices;       // int[capacity] = 0, 1, 2, ...: the initial free queue
     size_t bytes = 0;
 
     PathState(DeviceContext& device, int capacity);

@@ -1,16 +1,16 @@
 // The host queue manager: owns the device program, the scene on the device
-// and the path state, and runs iterations of the chosen algorithm as a chain
-// of kernel launches.
+// and the path state, and runs iterations of the chosen algorithm as rounds
+// of kernel launches over the work queues.
 #pragma once
 
 #include "../cl/Program.h"
 #include "../image/Image.h"
 #include "Algorithm.h"
+#include "LightTable.h"
 #include "PathState.h"
 #include "SceneBuffers.h"
 
 #include <cstdint>
-#include <memory>
 
 namespace wv {
 
@@ -25,39 +25,40 @@ struct RenderSettings {
 class Renderer {
 public:
     // Builds (or loads from the cache) the kernels for the scene's features and
-    // uploads the scene. Throws wv::Error on any failure.
+    // the algorithm, and uploads the scene. Throws wv::Error on any failure.
     Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings);
 
-    // Enqueues one iteration (one sample per pixel) without waiting for it.
-    void enqueueIteration();
-    // Waits for everything enqueued.
-    void finish();
+    // Runs one iteration (one sample per pixel) to completion.
+    void iterate();
 
     int iterations() const { return iteration_; }
     Image image();
     uint64_t nonFiniteCount();
     const ProgramBuild& programBuild() const { return build_; }
+    const LightTable& lights() const { return lights_; }
     int wavefront() const { return paths_.capacity; }
-    size_t deviceBytes() const { return sceneBuffers_.bytes + paths_.bytes + size_t(pixels_) * 16; }
+    size_t deviceBytes() const { return sceneBuffers_.bytes + paths_.bytes + size_t(pixels_) * 32; }
 
-    // The kernel files every render program is built from.
-    static const std::vector<std::string>& kernelFiles();
+    // The kernel files of the program for an algorithm.
+    static std::vector<std::string> kernelFiles(Algorithm algorithm);
 
 private:
-    void launch(cl::Kernel& kernel, int items);
-    void iterateEyeLight();
+    void launch(cl::Kernel& kernel, size_t items);
+    void round(int parity);
 
     DeviceContext& device_;
     RenderSettings settings_;
-    cl::Buffer camera_;
+    LightTable lights_;
     SceneBuffers sceneBuffers_;
     PathState paths_;
     ProgramBuild build_;
-    cl::Buffer framebuffer_; // float4 per pixel, running mean
+    cl::Buffer camera_;
+    cl::Buffer pixelRadiance_; // float4 per pixel: this iteration's sample
+    cl::Buffer framebuffer_;   // float4 per pixel: running mean
     int pixels_ = 0;
     int iteration_ = 0;
     size_t localSize_ = 64;
-    cl::Kernel generate_, extend_, shadeEyeLight_, accumulate_;
+    cl::Kernel generate_, extend_, shade_, escaped_, connect_, accumulate_;
 };
 
 // Default wavefront capacity: ~256K paths on a CPU, 2M on a GPU, at most what

@@ -37,7 +37,7 @@ cl::Buffer uploadBuffer(DeviceContext& device, const void* data, size_t bytes, c
     }
 }
 
-SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh& bvh)
+SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh& bvh, const LightTable& lightTable)
 {
     size_t count = bvh.triangleOrder.size();
     std::vector<std::array<float, 4>> vertices(3 * count), normals(scene.normals.empty() ? 1 : 3 * count);
@@ -54,8 +54,9 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
             }
         }
     }
-    std::vector<PunctualLight> lightData = scene.lights;
-    if (lightData.empty()) lightData.push_back(PunctualLight{}); // OpenCL buffers cannot be empty
+    std::vector<Light> lightData = lightTable.lights;
+    if (lightData.empty()) lightData.push_back(Light{}); // OpenCL buffers cannot be empty
+    std::vector<SceneInfo> info{lightTable.info};
 
     auto upload = [&](const auto& v, const char* what) {
         size_t b = v.size() * sizeof(v[0]);
@@ -68,6 +69,9 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     triMaterials = upload(triMaterial, "the triangle materials");
     materials = upload(scene.materials, "the materials");
     lights = upload(lightData, "the lights");
+    lightCdf = upload(lightTable.cdf, "the light distribution");
+    triangleLight = upload(lightTable.triangleLight, "the triangle lights");
+    sceneInfo = upload(info, "the scene constants");
     if (bytes > device.info.globalMemory)
         throw Error("the scene needs " + megabytes(bytes) + " but " + device.info.name + " has " +
                     megabytes(device.info.globalMemory));

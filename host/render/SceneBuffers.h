@@ -5,6 +5,7 @@
 #include "../bvh/Bvh.h"
 #include "../cl/DeviceContext.h"
 #include "../scene/Scene.h"
+#include "LightTable.h"
 
 namespace wv {
 
@@ -14,11 +15,14 @@ struct SceneBuffers {
     cl::Buffer triNormals;       // float4[3 · triangles] with vertex normals, else 1 float4
     cl::Buffer triMaterials;     // int[triangles]
     cl::Buffer materials;        // Material[]
-    cl::Buffer lights;           // PunctualLight[] (at least one element)
+    cl::Buffer lights;           // Light[] (at least one element)
+    cl::Buffer lightCdf;         // float[lights + 1]
+    cl::Buffer triangleLight;    // int[triangles]: light index or -1
+    cl::Buffer sceneInfo;        // SceneInfo
     size_t bytes = 0;
 
     // Throws wv::Error naming the device if a buffer exceeds its limits.
-    SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh& bvh);
+    SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh& bvh, const LightTable& lights);
 };
 
 // A read-only device buffer holding `bytes` bytes copied from `data`; checks

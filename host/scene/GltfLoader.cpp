@@ -505,7 +505,7 @@ void Loader::addLight(const tinygltf::Value& ext, const Mat4& world, const std::
     if (index < 0 || size_t(index) >= model_.lights.size())
         fail(nodeName + ": light index " + std::to_string(index) + " out of range");
     const tinygltf::Light& l = model_.lights[index];
-    PunctualLight out{};
+    Light out{};
     if (l.type == "point") out.type = LIGHT_POINT;
     else if (l.type == "spot") out.type = LIGHT_SPOT;
     else if (l.type == "directional") out.type = LIGHT_DIRECTIONAL;
@@ -515,7 +515,7 @@ void Loader::addLight(const tinygltf::Value& ext, const Mat4& world, const std::
     if (!isFinite(d)) fail(nodeName + ": degenerate light transform");
     for (int c = 0; c < 3; ++c) {
         double color = l.color.size() == 3 ? l.color[c] : 1.0;
-        out.intensity[c] = float(std::max(0.0, color * l.intensity));
+        out.emission[c] = float(std::max(0.0, color * l.intensity));
         out.position[c] = p[c];
         out.direction[c] = d[c];
     }

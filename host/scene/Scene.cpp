@@ -20,7 +20,7 @@ SceneFeatures Scene::features() const
         const float* e = materials[m].emission;
         if (e[0] > 0 || e[1] > 0 || e[2] > 0) f.emissiveTriangles = true;
     }
-    for (const PunctualLight& l : lights) {
+    for (const Light& l : lights) {
         f.pointLights |= l.type == LIGHT_POINT;
         f.spotLights |= l.type == LIGHT_SPOT;
         f.directionalLights |= l.type == LIGHT_DIRECTIONAL;

@@ -14,7 +14,8 @@ namespace wv {
 static_assert(sizeof(BvhNode) == 32, "BvhNode must be 32 bytes");
 static_assert(sizeof(Camera) == 64, "Camera layout");
 static_assert(sizeof(Material) == 80, "Material layout");
-static_assert(sizeof(PunctualLight) == 48, "PunctualLight layout");
+static_assert(sizeof(Light) == 64, "Light layout");
+static_assert(sizeof(SceneInfo) == 32, "SceneInfo layout");
 
 // A camera as the glTF file describes it, before an image size is chosen.
 struct CameraView {
@@ -45,7 +46,7 @@ struct Scene {
     std::vector<Vec3> normals;
     std::vector<int> triangleMaterial;
     std::vector<Material> materials;
-    std::vector<PunctualLight> lights;
+    std::vector<Light> lights; // punctual lights only; see render/LightTable.h
     Vec3 background{0, 0, 0}; // uniform background radiance (scene extras.background)
     CameraView camera;
     bool cameraFromFile = false;

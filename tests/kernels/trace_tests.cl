@@ -50,3 +50,15 @@ __kernel void spawn_and_trace(__global const BvhNode* nodes, __global const floa
     hitT[i] = hit.triangle >= 0 ? hit.t : INFINITY;
     hitTriangle[i] = hit.triangle;
 }
+
+/* Any hit along each ray up to direction.w, with the production traversal. */
+__kernel void any_hit(__global const BvhNode* nodes, __global const float4* triVertices,
+                      __global const float4* rayOrigins, __global const float4* rayDirections, int rayCount,
+                      __global int* occluded)
+{
+    int i = get_global_id(0);
+    if (i >= rayCount)
+        return;
+    Hit hit;
+    occluded[i] = trace_ray(nodes, triVertices, load_ray(rayOrigins, rayDirections, i), true, &hit);
+}

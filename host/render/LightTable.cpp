@@ -1,0 +1,79 @@
+#include "LightTable.h"
+
+#include <cmath>
+
+namespace wv {
+
+static float luminance(const float c[3]) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
+
+// Emitted power (luminance) used for selection. Infinite lights count the
+// power that crosses the scene's bounding disk (pbrt-v4's Phi for them).
+static double power(const Light& l, double sceneRadius)
+{
+    const double pi = M_PI;
+    double lum = luminance(l.emission);
+    switch (l.type) {
+    case LIGHT_POINT: return 4 * pi * lum;
+    case LIGHT_SPOT: return 2 * pi * lum * (1 - 0.5 * (l.cosInnerCone + l.cosOuterCone));
+    case LIGHT_DIRECTIONAL: return lum * pi * sceneRadius * sceneRadius;
+    case LIGHT_TRIANGLE: return pi * lum * l.area;
+    case LIGHT_BACKGROUND: return 4 * pi * pi * sceneRadius * sceneRadius * lum;
+    }
+    return 0;
+}
+
+LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
+{
+    LightTable t;
+    Bounds bounds = scene.bounds();
+    Vec3 center = bounds.center();
+    float radius = 0.5f * length(bounds.extent());
+    t.info.center[0] = center.x;
+    t.info.center[1] = center.y;
+    t.info.center[2] = center.z;
+    t.info.radius = radius;
+    t.info.backgroundLight = -1;
+
+    t.lights = scene.lights;
+    t.triangleLight.assign(bvh.triangleOrder.size(), -1);
+    for (size_t i = 0; i < bvh.triangleOrder.size(); ++i) {
+        uint32_t tri = bvh.triangleOrder[i];
+        const Material& m = scene.materials[scene.triangleMaterial[tri]];
+        if (luminance(m.emission) <= 0) continue;
+        const Vec3* v = &scene.vertices[3 * tri];
+        float area = 0.5f * length(cross(v[1] - v[0], v[2] - v[0]));
+        if (!(area > 0)) continue; // a degenerate emitter emits nothing
+        Light l{};
+        l.type = LIGHT_TRIANGLE;
+        l.triangle = int(i);
+        l.area = area;
+        for (int c = 0; c < 3; ++c) l.emission[c] = m.emission[c];
+        t.triangleLight[i] = int(t.lights.size());
+        t.lights.push_back(l);
+    }
+    if (scene.features().background) {
+        Light l{};
+        l.type = LIGHT_BACKGROUND;
+        for (int c = 0; c < 3; ++c) l.emission[c] = scene.background[c];
+        t.info.backgroundLight = int(t.lights.size());
+        t.lights.push_back(l);
+    }
+
+    std::vector<double> powers;
+    for (const Light& l : t.lights) {
+        powers.push_back(power(l, radius));
+        t.totalPower += powers.back();
+    }
+    t.cdf.assign(1, 0.0f);
+    double running = 0;
+    for (size_t i = 0; i < t.lights.size(); ++i) {
+        t.lights[i].pmf = t.totalPower > 0 ? float(powers[i] / t.totalPower) : 0.0f;
+        running += powers[i];
+        t.cdf.push_back(t.totalPower > 0 ? float(running / t.totalPower) : 0.0f);
+    }
+    if (!t.lights.empty()) t.cdf.back() = 1.0f;
+    t.info.lightCount = t.totalPower > 0 ? int(t.lights.size()) : 0;
+    return t;
+}
+
+} // namespace wv

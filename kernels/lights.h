@@ -1,0 +1,123 @@
+/* Light selection (by power), sampling from a surface point for next-event
+ * estimation, and the density with which that sampling would have produced a
+ * direction found by BSDF sampling (for MIS). Light types the scene lacks
+ * are compiled out. */
+#ifndef WAVEVCM_LIGHTS_H
+#define WAVEVCM_LIGHTS_H
+
+#include "ray.h"
+#include "sampling.h"
+#include "shared_types.h"
+
+typedef struct LightSample {
+    float3 direction; /* unit, from the shading point towards the light */
+    float distance;   /* INFINITY for directional and background lights */
+    float3 radiance;  /* arriving along -direction: f·radiance·|cos|/pdf is the estimate */
+    float pdf;        /* solid angle density including selection; delta lights: the selection probability */
+    bool delta;
+    int type;         /* LIGHT_* */
+    float3 lightPoint, lightNormal, lightError; /* triangle lights: for the shadow ray's far end */
+} LightSample;
+
+/* The light whose CDF interval holds u (binary search). */
+inline int select_light(__global const float* cdf, int count, float u)
+{
+    int lo = 0, hi = count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (cdf[mid + 1] <= u)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* glTF spot cone: squared linear ramp between the outer and inner cone. */
+inline float spot_falloff(const Light* l, float cosAngle)
+{
+    float t = clamp((cosAngle - l->cosOuterCone) / fmax(1e-4f, l->cosInnerCone - l->cosOuterCone), 0.0f, 1.0f);
+    return t * t;
+}
+
+/* Density (solid angle at p) of sampling triangle light `l` towards a point
+ * at distance `dist` whose normal makes cosine `cosLight` with the direction. */
+inline float triangle_light_pdf(float pmf, float area, float dist, float cosLight)
+{
+    return cosLight > 0.0f ? pmf * dist * dist / (cosLight * area) : 0.0f;
+}
+
+/* Density of sampling direction `d` from the background light (uniform sphere). */
+inline float background_light_pdf(float pmf) { return pmf * (0.25f * INV_PI_F); }
+
+inline bool sample_light(__global const Light* lights, __global const float* cdf, int lightCount,
+                         __global const float4* triVertices, float3 p, float3 u, LightSample* s)
+{
+    if (lightCount == 0)
+        return false;
+    Light l = lights[select_light(cdf, lightCount, u.x)];
+    s->delta = false;
+    s->distance = INFINITY;
+    s->type = l.type;
+    switch (l.type) {
+#ifdef HAS_EMISSIVE_TRIANGLES
+    case LIGHT_TRIANGLE: {
+        float3 v0 = triVertices[3 * l.triangle].xyz, v1 = triVertices[3 * l.triangle + 1].xyz,
+               v2 = triVertices[3 * l.triangle + 2].xyz;
+        float2 b = sample_triangle(u.yz);
+        float3 q = surface_point(v0, v1, v2, b.x, b.y, &s->lightError);
+        float3 n = normalize(cross(v1 - v0, v2 - v0));
+        float3 d = q - p;
+        float dist = length(d);
+        if (!(dist > 0.0f))
+            return false;
+        s->direction = d / dist;
+        float cosLight = -dot(s->direction, n); /* one-sided: emits along n only */
+        if (cosLight <= 0.0f)
+            return false;
+        s->distance = dist;
+        s->pdf = triangle_light_pdf(l.pmf, l.area, dist, cosLight);
+        s->radiance = vload3(0, l.emission);
+        s->lightPoint = q;
+        s->lightNormal = n;
+        return s->pdf > 0.0f && isfinite(s->pdf);
+    }
+#endif
+#ifdef HAS_POINT_LIGHTS
+    case LIGHT_POINT:
+    case LIGHT_SPOT: {
+        float3 d = vload3(0, l.position) - p;
+        float dist2 = dot(d, d);
+        if (!(dist2 > 0.0f))
+            return false;
+        float dist = sqrt(dist2);
+        s->direction = d / dist;
+        s->distance = dist;
+        float falloff = l.type == LIGHT_SPOT ? spot_falloff(&l, -dot(s->direction, vload3(0, l.direction))) : 1.0f;
+        s->radiance = vload3(0, l.emission) * (falloff / dist2);
+        s->pdf = l.pmf;
+        s->delta = true;
+        return falloff > 0.0f;
+    }
+#endif
+#ifdef HAS_DIRECTIONAL_LIGHTS
+    case LIGHT_DIRECTIONAL:
+        s->direction = -vload3(0, l.direction);
+        s->radiance = vload3(0, l.emission);
+        s->pdf = l.pmf;
+        s->delta = true;
+        return true;
+#endif
+#ifdef HAS_BACKGROUND
+    case LIGHT_BACKGROUND:
+        s->direction = sample_uniform_sphere(u.yz);
+        s->radiance = vload3(0, l.emission);
+        s->pdf = background_light_pdf(l.pmf);
+        return true;
+#endif
+    default:
+        return false;
+    }
+}
+
+#endif
