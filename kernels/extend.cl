@@ -12,6 +12,7 @@ __kernel void extend(__global const BvhNode* nodes, __global const float4* triVe
     int slot = queue_item(queueItems, queueCounters, capacity, rayQueue, get_global_id(0));
     if (slot < 0)
         return;
+    atomic_inc(&queueCounters[COUNTER_RAYS]);
     Hit hit;
     bool found = trace_ray(nodes, triVertices, load_ray(rayOrigins, rayDirections, slot), false, &hit);
     hitTriangle[slot] = hit.triangle;

@@ -15,7 +15,9 @@
 #define QUEUE_COUNT 7
 
 #define COUNTER_NEXT_SAMPLE 7 /* samples of this iteration handed out so far */
-#define COUNTER_NONFINITE 8   /* samples dropped because they were NaN or Inf (all iterations) */
-#define COUNTER_COUNT 9
+#define COUNTER_RAYS 8        /* rays extended in this iteration */
+#define COUNTER_SHADOW_RAYS 9 /* shadow rays traced in this iteration */
+#define COUNTER_NONFINITE 10  /* samples dropped because they were NaN or Inf (all iterations) */
+#define COUNTER_COUNT 11
 
 #endif

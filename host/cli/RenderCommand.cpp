@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -26,6 +27,39 @@ std::string defaultScenePath()
     }
     return (fs::path(WAVEVCM_SOURCE_DIR) / "scenes" / "cornell-box.gltf").string();
 }
+
+// One line on stderr, redrawn after each iteration (at most 10 times a
+// second): iterations, samples/s, elapsed and remaining time.
+class ProgressBar {
+public:
+    ProgressBar(bool enabled, int iterations, double seconds) : enabled_(enabled), iterations_(iterations), seconds_(seconds) {}
+
+    void update(int done, double elapsed, double samplesPerIteration)
+    {
+        if (!enabled_ || (elapsed - lastDraw_ < 0.1 && done != iterations_)) return;
+        lastDraw_ = elapsed;
+        double fraction = iterations_ > 0 ? double(done) / iterations_ : 0.0;
+        if (seconds_ > 0) fraction = std::max(fraction, std::min(1.0, elapsed / seconds_));
+        double remaining = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
+        const int width = 20;
+        int filled = int(fraction * width);
+        std::string bar = std::string(filled, '=') + std::string(width - filled, ' ');
+        // Short enough for an 80-column terminal, or \r cannot redraw it.
+        std::fprintf(stderr, "\r[%s] %d it %.2g samples/s %.1fs, %.1fs left  ", bar.c_str(), done,
+                     done * samplesPerIteration / elapsed, elapsed, remaining);
+        std::fflush(stderr);
+        drawn_ = true;
+    }
+    void finish()
+    {
+        if (drawn_) std::fputc('\n', stderr);
+    }
+
+private:
+    bool enabled_, drawn_ = false;
+    int iterations_;
+    double seconds_, lastDraw_ = -1;
+};
 
 static double since(std::chrono::steady_clock::time_point t)
 {
@@ -85,19 +119,23 @@ int runRender(const RenderOptions& o)
                      renderer.programBuild().seconds, renderer.programBuild().fromCache ? ", cached" : "");
 
     int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
+    ProgressBar progress(!o.quiet && ::isatty(STDERR_FILENO), spp, o.seconds);
     auto renderStart = std::chrono::steady_clock::now();
     do {
         renderer.iterate();
+        progress.update(renderer.iterations(), since(renderStart), double(settings.width) * settings.height);
     } while ((spp == 0 || renderer.iterations() < spp) && (o.seconds == 0 || since(renderStart) < o.seconds));
     double renderSeconds = since(renderStart);
+    progress.finish();
 
     Image image = renderer.image();
     uint64_t nonFinite = renderer.nonFiniteCount();
     writeImage(o.output, image);
     double samplesPerSecond = double(settings.width) * settings.height * renderer.iterations() / renderSeconds;
+    double raysPerSecond = double(renderer.raysTraced()) / renderSeconds;
     if (!o.quiet)
-        std::fprintf(stderr, "wavevcm: %d iterations in %.2f s (%.3g samples/s) -> %s\n", renderer.iterations(),
-                     renderSeconds, samplesPerSecond, o.output.c_str());
+        std::fprintf(stderr, "wavevcm: %d iterations in %.2f s (%.3g samples/s, %.3g rays/s) -> %s\n",
+                     renderer.iterations(), renderSeconds, samplesPerSecond, raysPerSecond, o.output.c_str());
     if (nonFinite > 0)
         std::fprintf(stderr, "wavevcm: warning: %llu samples were NaN or Inf and were dropped\n",
                      static_cast<unsigned long long>(nonFinite));
@@ -114,6 +152,7 @@ int runRender(const RenderOptions& o)
             {"render_seconds", renderSeconds},
             {"setup_seconds", setupSeconds},
             {"samples_per_second", samplesPerSecond},
+            {"rays_per_second", raysPerSecond},
             {"nan_count", nonFinite},
             {"triangles", scene.triangleCount()},
             {"bvh_nodes", bvh.nodes.size()},

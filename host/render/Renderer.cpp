@@ -154,7 +154,11 @@ void Renderer::iterate()
         if (r % 2 != 0) continue;
         int now[COUNTER_COUNT];
         device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE, 0, sizeof now, now);
-        if (now[QUEUE_RAYS(parity)] == 0 && now[COUNTER_NEXT_SAMPLE] >= pixels_) break;
+        if (now[QUEUE_RAYS(parity)] == 0 && now[COUNTER_NEXT_SAMPLE] >= pixels_) {
+            // The counters are reset per iteration, so 32 bits suffice.
+            rays_ += uint64_t(uint32_t(now[COUNTER_RAYS])) + uint64_t(uint32_t(now[COUNTER_SHADOW_RAYS]));
+            break;
+        }
     }
     accumulate_.setArg(2, uint32_t(iteration_));
     launch(accumulate_, size_t(pixels_));

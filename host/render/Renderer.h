@@ -32,6 +32,7 @@ public:
     void iterate();
 
     int iterations() const { return iteration_; }
+    uint64_t raysTraced() const { return rays_; } // extended and shadow rays, all iterations
     Image image();
     uint64_t nonFiniteCount();
     const ProgramBuild& programBuild() const { return build_; }
@@ -57,6 +58,7 @@ private:
     cl::Buffer framebuffer_;   // float4 per pixel: running mean
     int pixels_ = 0;
     int iteration_ = 0;
+    uint64_t rays_ = 0;
     size_t localSize_ = 64;
     cl::Kernel generate_, extend_, shade_, escaped_, connect_, accumulate_;
 };
