@@ -14,7 +14,7 @@ __kernel void accumulate(__global float4* pixelRadiance, int pixels, uint iterat
     float4 x = pixelRadiance[pixel];
     pixelRadiance[pixel] = (float4)(0.0f);
     if (!all(isfinite(x.xyz))) {
-        atomic_inc(&queueCounters[COUNTER_NONFINITE]);
+        atomic_inc(&queueCounters[COUNTER_INDEX(COUNTER_NONFINITE)]);
         x = (float4)(0.0f);
     }
     float4 mean = framebuffer[pixel];

@@ -7,7 +7,7 @@
 #include "queues.h"
 
 __kernel void connect(__global const BvhNode* nodes, __global const float4* triVertices, int capacity,
-                      __global const int* queueItems, __global int* queueCounters,
+                      __global const int* queueItems, __global const int* queueCounters,
                       __global const float4* shadowOrigins, __global const float4* shadowDirections,
                       __global const float4* shadowContribution, __global const int* pathPixel,
                       __global float4* pixelRadiance)
@@ -15,7 +15,6 @@ __kernel void connect(__global const BvhNode* nodes, __global const float4* triV
     int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_SHADOW, get_global_id(0));
     if (slot < 0)
         return;
-    atomic_inc(&queueCounters[COUNTER_SHADOW_RAYS]);
     Hit hit;
     if (!trace_ray(nodes, triVertices, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
         pixelRadiance[pathPixel[slot]] += shadowContribution[slot];

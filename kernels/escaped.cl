@@ -8,19 +8,17 @@ __kernel void escaped(__global const Light* lights, __constant const SceneInfo* 
                       __global const int* pathPixel, __global const float4* pathThroughput,
                       __global const float* pathPrevPdf, __global float4* pixelRadiance)
 {
+    __local int scratch[2];
     int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_ESCAPED, get_global_id(0));
-    if (slot < 0)
-        return;
 #if defined(HAS_BACKGROUND) && !defined(EYE_LIGHT)
-    if (scene->backgroundLight >= 0) {
+    if (slot >= 0 && scene->backgroundLight >= 0) {
         __global const Light* bg = &lights[scene->backgroundLight];
         float prevPdf = pathPrevPdf[slot];
         float lightPdf = background_light_pdf(bg->pmf);
         /* Power heuristic; prevPdf = 0 marks a delta or camera segment. */
         float w = prevPdf > 0.0f ? prevPdf * prevPdf / (prevPdf * prevPdf + lightPdf * lightPdf) : 1.0f;
-        float3 L = (float3)(bg->emission[0], bg->emission[1], bg->emission[2]);
-        pixelRadiance[pathPixel[slot]] += (float4)(w * pathThroughput[slot].xyz * L, 0.0f);
+        pixelRadiance[pathPixel[slot]] += (float4)(w * pathThroughput[slot].xyz * vload3(0, bg->emission), 0.0f);
     }
 #endif
-    queue_push(queueItems, queueCounters, capacity, freeQueue, slot);
+    queue_push(queueItems, queueCounters, capacity, freeQueue, slot >= 0, slot, scratch);
 }

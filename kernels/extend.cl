@@ -9,14 +9,16 @@ __kernel void extend(__global const BvhNode* nodes, __global const float4* triVe
                      __global const float4* rayOrigins, __global const float4* rayDirections,
                      __global float* hitT, __global int* hitTriangle, __global float2* hitBary)
 {
+    __local int scratch[2];
     int slot = queue_item(queueItems, queueCounters, capacity, rayQueue, get_global_id(0));
-    if (slot < 0)
-        return;
-    atomic_inc(&queueCounters[COUNTER_RAYS]);
-    Hit hit;
-    bool found = trace_ray(nodes, triVertices, load_ray(rayOrigins, rayDirections, slot), false, &hit);
-    hitTriangle[slot] = hit.triangle;
-    hitT[slot] = found ? hit.t : INFINITY;
-    hitBary[slot] = (float2)(hit.b1, hit.b2);
-    queue_push(queueItems, queueCounters, capacity, found ? QUEUE_HITS : QUEUE_ESCAPED, slot);
+    bool found = false;
+    if (slot >= 0) {
+        Hit hit;
+        found = trace_ray(nodes, triVertices, load_ray(rayOrigins, rayDirections, slot), false, &hit);
+        hitTriangle[slot] = hit.triangle;
+        hitT[slot] = found ? hit.t : INFINITY;
+        hitBary[slot] = (float2)(hit.b1, hit.b2);
+    }
+    queue_push(queueItems, queueCounters, capacity, QUEUE_HITS, slot >= 0 && found, slot, scratch);
+    queue_push(queueItems, queueCounters, capacity, QUEUE_ESCAPED, slot >= 0 && !found, slot, scratch);
 }

@@ -1,9 +1,13 @@
 /* The work queues and counters, shared by host and kernels.
  *
  * Every queue is an array of path-slot indices (queue q occupies
- * items[q·capacity, (q+1)·capacity)) and a counter in the counter buffer.
- * Rays and free slots ping-pong between two queues by round parity: a round
- * consumes RAYS(p) and FREE(p) and fills RAYS(1−p) and FREE(1−p). */
+ * items[q·capacity, (q+1)·capacity)) and a counter. Rays and free slots
+ * ping-pong between two queues by round parity: a round consumes RAYS(p) and
+ * FREE(p) and fills RAYS(1−p) and FREE(1−p).
+ *
+ * Counters sit 64 bytes apart (COUNTER_INDEX): pushes to one queue then do not
+ * invalidate the cache line that the readers of another queue's size hold,
+ * which on a 2-core CPU made every queue access a cache miss. */
 #ifndef WAVEVCM_QUEUE_IDS_H
 #define WAVEVCM_QUEUE_IDS_H
 
@@ -14,10 +18,10 @@
 #define QUEUE_FREE(parity) (4 + 2 * (parity)) /* slots whose path ended: to regenerate */
 #define QUEUE_COUNT 7
 
-#define COUNTER_NEXT_SAMPLE 7 /* samples of this iteration handed out so far */
-#define COUNTER_RAYS 8        /* rays extended in this iteration */
-#define COUNTER_SHADOW_RAYS 9 /* shadow rays traced in this iteration */
-#define COUNTER_NONFINITE 10  /* samples dropped because they were NaN or Inf (all iterations) */
-#define COUNTER_COUNT 11
+#define COUNTER_NONFINITE 7 /* samples dropped because they were NaN or Inf (all iterations) */
+#define COUNTER_COUNT 8
+
+#define COUNTER_STRIDE 16 /* ints: one 64-byte cache line per counter */
+#define COUNTER_INDEX(c) ((c) * COUNTER_STRIDE)
 
 #endif

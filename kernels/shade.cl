@@ -31,23 +31,20 @@ inline Ray ray_between(float3 p, float3 pError, float3 n, float3 target, float3 
     return r;
 }
 
-__kernel void shade(__global const float4* triVertices, __global const float4* triNormals,
-                    __global const int* triMaterials, __global const Material* materials,
-                    __global const Light* lights, __global const float* lightCdf,
-                    __global const int* triangleLight, __constant const SceneInfo* scene, uint seed,
-                    uint iteration, int maxPathLength, int capacity, int nextRayQueue, int freeQueue,
-                    __global int* queueItems, __global int* queueCounters,
-                    __global float4* rayOrigins, __global float4* rayDirections,
-                    __global const float* hitT, __global const int* hitTriangle,
-                    __global const float2* hitBary, __global const int* pathPixel,
-                    __global int* pathDepth, __global float4* pathThroughput,
-                    __global float* pathPrevPdf, __global float4* shadowOrigins,
-                    __global float4* shadowDirections, __global float4* shadowContribution,
-                    __global float4* pixelRadiance)
+/* Shades the hit of path `slot`; sets *alive if the path continues (its next
+ * ray stored) and *shadowRay if a shadow ray was stored for `connect`. */
+inline void shade_hit(__global const float4* triVertices, __global const float4* triNormals,
+                      __global const int* triMaterials, __global const Material* materials,
+                      __global const Light* lights, __global const float* lightCdf,
+                      __global const int* triangleLight, __constant const SceneInfo* scene, uint seed,
+                      uint iteration, int maxPathLength, int slot, __global float4* rayOrigins,
+                      __global float4* rayDirections, __global const float* hitT,
+                      __global const int* hitTriangle, __global const float2* hitBary,
+                      __global const int* pathPixel, __global int* pathDepth, __global float4* pathThroughput,
+                      __global float* pathPrevPdf, __global float4* shadowOrigins,
+                      __global float4* shadowDirections, __global float4* shadowContribution,
+                      __global float4* pixelRadiance, bool* aliveOut, bool* shadowOut)
 {
-    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
-    if (slot < 0)
-        return;
     int tri = hitTriangle[slot];
     float2 bary = hitBary[slot];
     float3 v0 = triVertices[3 * tri].xyz, v1 = triVertices[3 * tri + 1].xyz, v2 = triVertices[3 * tri + 2].xyz;
@@ -112,7 +109,7 @@ __kernel void shade(__global const float4* triVertices, __global const float4* t
                                              -ls.direction);
                     store_ray(shadowOrigins, shadowDirections, slot, shadow);
                     shadowContribution[slot] = (float4)(contribution, 0.0f);
-                    queue_push(queueItems, queueCounters, capacity, QUEUE_SHADOW, slot);
+                    *shadowOut = true;
                 }
             }
         }
@@ -147,5 +144,32 @@ __kernel void shade(__global const float4* triVertices, __global const float4* t
 
     if (any(L != 0.0f))
         pixelRadiance[pixel] += (float4)(L, 0.0f);
-    queue_push(queueItems, queueCounters, capacity, alive ? nextRayQueue : freeQueue, slot);
+    *aliveOut = alive;
+}
+
+__kernel void shade(__global const float4* triVertices, __global const float4* triNormals,
+                    __global const int* triMaterials, __global const Material* materials,
+                    __global const Light* lights, __global const float* lightCdf,
+                    __global const int* triangleLight, __constant const SceneInfo* scene, uint seed,
+                    uint iteration, int maxPathLength, int capacity, int nextRayQueue, int freeQueue,
+                    __global int* queueItems, __global int* queueCounters,
+                    __global float4* rayOrigins, __global float4* rayDirections,
+                    __global const float* hitT, __global const int* hitTriangle,
+                    __global const float2* hitBary, __global const int* pathPixel,
+                    __global int* pathDepth, __global float4* pathThroughput,
+                    __global float* pathPrevPdf, __global float4* shadowOrigins,
+                    __global float4* shadowDirections, __global float4* shadowContribution,
+                    __global float4* pixelRadiance)
+{
+    __local int scratch[2];
+    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
+    bool alive = false, shadowRay = false;
+    if (slot >= 0)
+        shade_hit(triVertices, triNormals, triMaterials, materials, lights, lightCdf, triangleLight, scene, seed,
+                  iteration, maxPathLength, slot, rayOrigins, rayDirections, hitT, hitTriangle, hitBary, pathPixel,
+                  pathDepth, pathThroughput, pathPrevPdf, shadowOrigins, shadowDirections, shadowContribution,
+                  pixelRadiance, &alive, &shadowRay);
+    queue_push(queueItems, queueCounters, capacity, QUEUE_SHADOW, shadowRay, slot, scratch);
+    queue_push(queueItems, queueCounters, capacity, nextRayQueue, alive, slot, scratch);
+    queue_push(queueItems, queueCounters, capacity, freeQueue, slot >= 0 && !alive, slot, scratch);
 }

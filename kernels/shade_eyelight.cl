@@ -11,15 +11,16 @@ __kernel void shade_eyelight(__global const float4* triVertices, __global const 
                              __global const int* hitTriangle, __global const float2* hitBary,
                              __global const int* pathPixel, __global float4* pixelRadiance)
 {
+    __local int scratch[2];
     int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
-    if (slot < 0)
-        return;
-    int tri = hitTriangle[slot];
-    float3 n = geometric_normal(triVertices, tri);
+    if (slot >= 0) {
+        int tri = hitTriangle[slot];
+        float3 n = geometric_normal(triVertices, tri);
 #ifdef HAS_VERTEX_NORMALS
-    n = shading_normal(triNormals, tri, hitBary[slot], n);
+        n = shading_normal(triNormals, tri, hitBary[slot], n);
 #endif
-    float value = fabs(dot(normalize(rayDirections[slot].xyz), n));
-    pixelRadiance[pathPixel[slot]] += (float4)(value, value, value, 0.0f);
-    queue_push(queueItems, queueCounters, capacity, freeQueue, slot);
+        float value = fabs(dot(normalize(rayDirections[slot].xyz), n));
+        pixelRadiance[pathPixel[slot]] += (float4)(value, value, value, 0.0f);
+    }
+    queue_push(queueItems, queueCounters, capacity, freeQueue, slot >= 0, slot, scratch);
 }

@@ -123,9 +123,9 @@ private:
             std::vector<int> all(QUEUE_COUNT * n, 0);
             for (size_t i = 0; i < n; ++i) all[QUEUE_RAYS(0) * n + i] = int(i);
             items = uploadBuffer(dev, all.data(), all.size() * 4, "queue");
-            int c[COUNTER_COUNT] = {};
-            c[QUEUE_RAYS(0)] = int(n);
-            counters = uploadBuffer(dev, c, sizeof c, "counters");
+            std::vector<int> c(COUNTER_INDEX(COUNTER_COUNT), 0);
+            c[COUNTER_INDEX(QUEUE_RAYS(0))] = int(n);
+            counters = uploadBuffer(dev, c.data(), c.size() * sizeof(int), "counters");
         }
     };
 

@@ -10,8 +10,10 @@ struct DeviceContext {
     cl::Context context;
     cl::CommandQueue queue;
 
-    explicit DeviceContext(const DeviceInfo& device)
-        : info(device), context(device.device), queue(context, device.device) {}
+    // `profiling` enables event timestamps (for per-kernel timing).
+    explicit DeviceContext(const DeviceInfo& device, bool profiling = false)
+        : info(device), context(device.device),
+          queue(context, device.device, profiling ? CL_QUEUE_PROFILING_ENABLE : 0) {}
 };
 
 } // namespace wv

@@ -18,6 +18,7 @@ struct RenderOptions {
     int wavefront = 0;
     std::string statsFile;
     bool quiet = false;
+    bool profile = false;
 };
 
 int runRender(const RenderOptions& options);

@@ -109,7 +109,7 @@ int runRender(const RenderOptions& o)
 
     Bvh bvh = buildBvh(scene.vertices);
     std::vector<DeviceInfo> devices = enumerateDevices();
-    DeviceContext device(selectDevice(devices, o.device));
+    DeviceContext device(selectDevice(devices, o.device), o.profile);
     Renderer renderer(device, scene, bvh, settings);
     double setupSeconds = since(setupStart);
     if (!o.quiet)
@@ -136,6 +136,13 @@ int runRender(const RenderOptions& o)
     if (!o.quiet)
         std::fprintf(stderr, "wavevcm: %d iterations in %.2f s (%.3g samples/s, %.3g rays/s) -> %s\n",
                      renderer.iterations(), renderSeconds, samplesPerSecond, raysPerSecond, o.output.c_str());
+    if (o.profile) {
+        double total = 0;
+        for (const auto& [name, seconds] : renderer.kernelSeconds()) total += seconds;
+        for (const auto& [name, seconds] : renderer.kernelSeconds())
+            std::fprintf(stderr, "wavevcm: kernel %-16s %8.3f s  %5.1f %%\n", name.c_str(), seconds,
+                         100 * seconds / total);
+    }
     if (nonFinite > 0)
         std::fprintf(stderr, "wavevcm: warning: %llu samples were NaN or Inf and were dropped\n",
                      static_cast<unsigned long long>(nonFinite));

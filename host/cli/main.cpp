@@ -30,6 +30,7 @@ int main(int argc, char** argv)
     render->add_option("--wavefront", r.wavefront, "path slots per wavefront (default: by device type)");
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
+    render->add_flag("--profile", r.profile, "print the device time spent in each kernel");
 
     app.add_subcommand("devices", "list every OpenCL platform and device");
 

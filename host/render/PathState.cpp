@@ -37,8 +37,8 @@ PathState::PathState(DeviceContext& device, int capacity_) : capacity(capacity_)
     std::iota(indices.begin(), indices.end(), 0);
     slotIndices = uploadBuffer(device, indices.data(), n * 4, "the slot indices");
     bytes += n * 4;
-    counters = deviceBuffer(device, COUNTER_COUNT * sizeof(int), "the queue counters");
-    bytes += COUNTER_COUNT * sizeof(int);
+    counters = deviceBuffer(device, kCounterBytes, "the queue counters");
+    bytes += kCounterBytes;
 }
 
 } // namespace wv

@@ -4,9 +4,12 @@
 // image size.
 #pragma once
 
+#include "../../kernels/queue_ids.h"
 #include "../cl/DeviceContext.h"
 
 namespace wv {
+
+constexpr size_t kCounterBytes = COUNTER_COUNT * COUNTER_STRIDE * sizeof(int);
 
 struct PathState {
     int capacity = 0;
@@ -23,7 +26,7 @@ struct PathState {
     cl::Buffer shadowDirections;  // float4, w = tMax
     cl::Buffer shadowContribution;// float4
     cl::Buffer queueItems;        // int[QUEUE_COUNT × capacity]
-    cl::Buffer counters;          // int[COUNTER_COUNT]
+    cl::Buffer counters;          // int[COUNTER_COUNT × COUNTER_STRIDE]
     cl::Buffer slotIndices;       // int[capacity] = 0, 1, 2, ...: the initial free queue
     size_t bytes = 0;
 

@@ -54,7 +54,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     framebuffer_ = deviceBuffer(device, imageBytes, "the framebuffer");
     device.queue.enqueueFillBuffer(pixelRadiance_, 0.0f, 0, imageBytes);
     device.queue.enqueueFillBuffer(framebuffer_, 0.0f, 0, imageBytes);
-    device.queue.enqueueFillBuffer(paths_.counters, 0, 0, COUNTER_COUNT * sizeof(int));
+    device.queue.enqueueFillBuffer(paths_.counters, 0, 0, kCounterBytes);
 
     std::string source = expandKernelSources(findKernelDir(), kernelFiles(settings.algorithm));
     std::string options = "-cl-std=CL1.2" + scene.features().buildOptions() + (eyeLight ? " -DEYE_LIGHT" : "");
@@ -63,11 +63,12 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     // One fixed local size: PoCL compiles a work-group function per local
     // size, and local size 1 is several times slower there.
     localSize_ = std::min<size_t>(64, device.info.maxWorkGroupSize);
+    profiling_ = (device.queue.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0;
     const PathState& p = paths_;
     const SceneBuffers& s = sceneBuffers_;
     int capacity = p.capacity;
     generate_ = cl::Kernel(build_.program, "generate");
-    setArgs(generate_, camera_, settings.seed, 0u, capacity, 0, 0, p.queueItems, p.counters, p.rayOrigins,
+    setArgs(generate_, camera_, settings.seed, 0u, capacity, 0, 0, 0, 0, 0, p.queueItems, p.counters, p.rayOrigins,
             p.rayDirections, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathPrevPdf);
     extend_ = cl::Kernel(build_.program, "extend");
     setArgs(extend_, s.nodes, s.triVertices, capacity, 0, p.queueItems, p.counters, p.rayOrigins, p.rayDirections,
@@ -97,73 +98,89 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
 void Renderer::launch(cl::Kernel& kernel, size_t items)
 {
     try {
+        cl::Event event;
         device_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(items, localSize_)),
-                                           cl::NDRange(localSize_));
+                                           cl::NDRange(localSize_), nullptr, profiling_ ? &event : nullptr);
+        if (profiling_) pending_.push_back({kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(), event});
     } catch (const cl::Error& e) {
         throw Error("launching kernel " + kernel.getInfo<CL_KERNEL_FUNCTION_NAME>() + " on " + device_.info.name +
                     " failed: " + clErrorName(e.err()));
     }
 }
 
-// One round: new paths into free slots, then every live path advances one
-// segment. Consumes RAYS(parity) and FREE(parity), fills the other pair.
-void Renderer::round(int parity)
+// One round: `generated` new paths into free slots, then every live path
+// (`live` of them at most) advances one segment. Consumes RAYS(parity) and
+// FREE(parity), fills the other pair.
+void Renderer::round(int parity, size_t generated, size_t issued, size_t rays)
 {
     int next = 1 - parity;
-    device_.queue.enqueueFillBuffer(paths_.counters, 0, 0, 3 * sizeof(int)); // hits, escaped, shadow
-    device_.queue.enqueueFillBuffer(paths_.counters, 0, QUEUE_RAYS(next) * sizeof(int), 2 * sizeof(int));
-    generate_.setArg(4, QUEUE_FREE(parity));
-    generate_.setArg(5, QUEUE_RAYS(parity));
+    auto counterOffset = [](int c) { return size_t(COUNTER_INDEX(c)) * sizeof(int); };
+    auto clearCounters = [&](int first, int count) {
+        device_.queue.enqueueFillBuffer(paths_.counters, 0, counterOffset(first), counterOffset(count));
+    };
+    clearCounters(QUEUE_HITS, 3); // hits, escaped, shadow
+    clearCounters(QUEUE_RAYS(next), 2);
+    setArgs(generate_, camera_, settings_.seed, uint32_t(iteration_), paths_.capacity, QUEUE_FREE(parity),
+            QUEUE_RAYS(parity), int(generated), int(issued), int(rays));
     extend_.setArg(3, QUEUE_RAYS(parity));
     escaped_.setArg(3, QUEUE_FREE(next));
-    size_t capacity = size_t(paths_.capacity);
-    launch(generate_, capacity);
-    launch(extend_, capacity);
+    size_t live = rays + generated;
+    launch(generate_, std::max<size_t>(generated, 1)); // item 0 also sets the ray queue's length
+    launch(extend_, live);
     if (settings_.algorithm == Algorithm::EyeLight) {
         shade_.setArg(3, QUEUE_FREE(next));
-        launch(shade_, capacity);
-        launch(escaped_, capacity);
     } else {
         shade_.setArg(12, QUEUE_RAYS(next));
         shade_.setArg(13, QUEUE_FREE(next));
-        launch(shade_, capacity);
-        launch(escaped_, capacity);
-        launch(connect_, capacity);
     }
+    launch(shade_, live);
+    launch(escaped_, live);
+    if (settings_.algorithm != Algorithm::EyeLight) launch(connect_, live);
 }
 
 void Renderer::iterate()
 {
-    generate_.setArg(2, uint32_t(iteration_));
     if (settings_.algorithm != Algorithm::EyeLight) shade_.setArg(9, uint32_t(iteration_));
-    // Every slot starts free; no sample handed out yet.
-    int counters[COUNTER_NONFINITE] = {};
-    counters[QUEUE_FREE(0)] = paths_.capacity;
-    device_.queue.enqueueWriteBuffer(paths_.counters, CL_TRUE, 0, sizeof counters, counters);
+    // Every slot starts free.
+    std::vector<int> counters(COUNTER_INDEX(COUNTER_NONFINITE), 0);
+    counters[COUNTER_INDEX(QUEUE_FREE(0))] = paths_.capacity;
+    device_.queue.enqueueWriteBuffer(paths_.counters, CL_TRUE, 0, counters.size() * sizeof(int), counters.data());
     device_.queue.enqueueCopyBuffer(paths_.slotIndices, paths_.queueItems, 0,
                                     size_t(QUEUE_FREE(0)) * paths_.capacity * sizeof(int),
                                     size_t(paths_.capacity) * sizeof(int));
-    // The host reads the counters back only to decide when the iteration is
-    // over (no rays left, every sample handed out), every second round: a
-    // read costs a device synchronisation (~70 µs on PoCL, more on GPUs),
-    // an extra round with empty queues only its launches.
-    int parity = 0;
-    for (int r = 1;; ++r) {
-        round(parity);
-        parity = 1 - parity;
-        if (r % 2 != 0) continue;
-        int now[COUNTER_COUNT];
-        device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE, 0, sizeof now, now);
-        if (now[QUEUE_RAYS(parity)] == 0 && now[COUNTER_NEXT_SAMPLE] >= pixels_) {
-            // The counters are reset per iteration, so 32 bits suffice.
-            rays_ += uint64_t(uint32_t(now[COUNTER_RAYS])) + uint64_t(uint32_t(now[COUNTER_SHADOW_RAYS]));
-            break;
-        }
+    // The host reads the counters once per round, to size the next round's
+    // launches (OpenCL 1.2 has no indirect dispatch) and to see when the
+    // iteration is over. Launching over the full capacity instead, with
+    // kernels returning past their queue's size, cost more on PoCL than the
+    // ~70 µs synchronisation: most rounds have few live paths.
+    size_t rays = 0, free = size_t(paths_.capacity), issued = 0;
+    std::vector<int> now(COUNTER_INDEX(COUNTER_COUNT));
+    for (int parity = 0;; parity = 1 - parity) {
+        size_t generated = std::min(free, size_t(pixels_) - issued);
+        if (rays + generated == 0) break;
+        round(parity, generated, issued, rays);
+        issued += generated;
+        rays_ += rays + generated;
+        device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE, 0, now.size() * sizeof(int), now.data());
+        rays = size_t(now[COUNTER_INDEX(QUEUE_RAYS(1 - parity))]);
+        free = size_t(now[COUNTER_INDEX(QUEUE_FREE(1 - parity))]);
+        rays_ += size_t(now[COUNTER_INDEX(QUEUE_SHADOW)]);
     }
     accumulate_.setArg(2, uint32_t(iteration_));
     launch(accumulate_, size_t(pixels_));
     device_.queue.finish();
+    if (profiling_) collectProfile();
     ++iteration_;
+}
+
+void Renderer::collectProfile()
+{
+    for (auto& [name, event] : pending_) {
+        cl_ulong start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+        cl_ulong end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+        kernelSeconds_[name] += double(end - start) * 1e-9;
+    }
+    pending_.clear();
 }
 
 Image Renderer::image()
@@ -178,9 +195,10 @@ Image Renderer::image()
 
 uint64_t Renderer::nonFiniteCount()
 {
-    int counters[COUNTER_COUNT];
-    device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE, 0, sizeof counters, counters);
-    return uint64_t(uint32_t(counters[COUNTER_NONFINITE]));
+    int count = 0;
+    device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE, size_t(COUNTER_INDEX(COUNTER_NONFINITE)) * sizeof(int),
+                                    sizeof count, &count);
+    return uint64_t(uint32_t(count));
 }
 
 } // namespace wv

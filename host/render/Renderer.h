@@ -11,6 +11,7 @@
 #include "SceneBuffers.h"
 
 #include <cstdint>
+#include <map>
 
 namespace wv {
 
@@ -40,12 +41,17 @@ public:
     int wavefront() const { return paths_.capacity; }
     size_t deviceBytes() const { return sceneBuffers_.bytes + paths_.bytes + size_t(pixels_) * 32; }
 
+    // Device time per kernel so far, in seconds (needs a profiling queue,
+    // see DeviceContext; empty otherwise).
+    const std::map<std::string, double>& kernelSeconds() const { return kernelSeconds_; }
+
     // The kernel files of the program for an algorithm.
     static std::vector<std::string> kernelFiles(Algorithm algorithm);
 
 private:
     void launch(cl::Kernel& kernel, size_t items);
-    void round(int parity);
+    void collectProfile();
+    void round(int parity, size_t generated, size_t issued, size_t rays);
 
     DeviceContext& device_;
     RenderSettings settings_;
@@ -61,6 +67,9 @@ private:
     uint64_t rays_ = 0;
     size_t localSize_ = 64;
     cl::Kernel generate_, extend_, shade_, escaped_, connect_, accumulate_;
+    bool profiling_ = false;
+    std::vector<std::pair<std::string, cl::Event>> pending_;
+    std::map<std::string, double> kernelSeconds_;
 };
 
 // Default wavefront capacity: ~256K paths on a CPU, 2M on a GPU, at most what
