@@ -1,7 +1,8 @@
-/* Light selection (by power), sampling from a surface point for next-event
- * estimation, and the density with which that sampling would have produced a
- * direction found by BSDF sampling (for MIS). Light types the scene lacks
- * are compiled out. */
+/* Light selection (by power); sampling from a surface point for next-event
+ * estimation and the density with which that would have produced a direction
+ * found by BSDF sampling (for MIS); and emission sampling — a point and a
+ * direction leaving the light — with its densities, which light sub-paths
+ * start from. Light types the scene lacks are compiled out. */
 #ifndef WAVEVCM_LIGHTS_H
 #define WAVEVCM_LIGHTS_H
 
@@ -114,6 +115,102 @@ inline bool sample_light(__global const Light* lights, __global const float* cdf
         s->radiance = vload3(0, l.emission);
         s->pdf = background_light_pdf(l.pmf);
         return true;
+#endif
+    default:
+        return false;
+    }
+}
+
+/* A ray leaving a light. The power estimate it carries is
+ * radiance · cosAtLight / (pdfPosition · pdfDirection); averaged over samples
+ * it is the light's power divided by its selection probability. */
+typedef struct EmissionSample {
+    float3 position;
+    float3 direction;   /* unit, the way the light travels */
+    float3 radiance;    /* radiance (triangle, background), intensity (point, spot), irradiance (directional) */
+    float pdfPosition;  /* area density including selection; 1 · selection for point and spot lights */
+    float pdfDirection; /* solid-angle density; 1 for directional lights */
+    float cosAtLight;   /* 1 for lights without a surface */
+    bool deltaPosition, deltaDirection;
+    int light;
+} EmissionSample;
+
+/* Sampling the ray's start and direction. u.x selects the light, u.yz the
+ * position, v the direction. Infinite lights (directional, background) start
+ * their rays on a disk of the bounding sphere's radius, facing the scene,
+ * just outside the sphere. */
+inline bool sample_emission(__global const Light* lights, __global const float* cdf, int lightCount,
+                            __global const float4* triVertices, __constant const SceneInfo* scene, float3 u,
+                            float2 v, EmissionSample* e)
+{
+    if (lightCount == 0)
+        return false;
+    e->light = select_light(cdf, lightCount, u.x);
+    Light l = lights[e->light];
+    e->radiance = vload3(0, l.emission);
+    e->cosAtLight = 1.0f;
+    e->deltaPosition = false;
+    e->deltaDirection = false;
+    float3 centre = vload3(0, scene->center);
+    float radius = scene->radius;
+    switch (l.type) {
+#ifdef HAS_EMISSIVE_TRIANGLES
+    case LIGHT_TRIANGLE: {
+        float3 v0 = triVertices[3 * l.triangle].xyz, v1 = triVertices[3 * l.triangle + 1].xyz,
+               v2 = triVertices[3 * l.triangle + 2].xyz;
+        float2 b = sample_triangle(u.yz);
+        float3 error;
+        e->position = surface_point(v0, v1, v2, b.x, b.y, &error);
+        Frame f = frame_from_normal(normalize(cross(v1 - v0, v2 - v0)));
+        float3 dirLocal = sample_cosine_hemisphere(v);
+        e->direction = to_world(&f, dirLocal);
+        e->cosAtLight = dirLocal.z;
+        e->pdfPosition = l.pmf / l.area;
+        e->pdfDirection = dirLocal.z * INV_PI_F;
+        return dirLocal.z > 0.0f;
+    }
+#endif
+#ifdef HAS_POINT_LIGHTS
+    case LIGHT_POINT:
+    case LIGHT_SPOT: {
+        e->position = vload3(0, l.position);
+        e->pdfPosition = l.pmf;
+        e->deltaPosition = true;
+        if (l.type == LIGHT_POINT) {
+            e->direction = sample_uniform_sphere(v);
+            e->pdfDirection = 0.25f * INV_PI_F;
+            return true;
+        }
+        Frame f = frame_from_normal(vload3(0, l.direction));
+        float3 dirLocal = sample_uniform_cone(v, l.cosOuterCone);
+        e->direction = to_world(&f, dirLocal);
+        e->pdfDirection = 1.0f / (2.0f * PI_F * (1.0f - l.cosOuterCone));
+        e->radiance *= spot_falloff(&l, dirLocal.z);
+        return true;
+    }
+#endif
+#if defined(HAS_DIRECTIONAL_LIGHTS) || defined(HAS_BACKGROUND)
+#ifdef HAS_DIRECTIONAL_LIGHTS
+    case LIGHT_DIRECTIONAL:
+#endif
+#ifdef HAS_BACKGROUND
+    case LIGHT_BACKGROUND:
+#endif
+    {
+        if (l.type == LIGHT_DIRECTIONAL) {
+            e->direction = vload3(0, l.direction);
+            e->pdfDirection = 1.0f;
+            e->deltaDirection = true;
+        } else {
+            e->direction = -sample_uniform_sphere(v);
+            e->pdfDirection = 0.25f * INV_PI_F;
+        }
+        Frame f = frame_from_normal(e->direction);
+        float2 d = sample_disk(u.yz) * radius;
+        e->position = centre - e->direction * radius + d.x * f.s + d.y * f.t;
+        e->pdfPosition = l.pmf / (PI_F * radius * radius);
+        return true;
+    }
 #endif
     default:
         return false;
