@@ -159,6 +159,24 @@ TEST(PathTracer, FurnaceWithWhiteMirrorInside)
     expectFurnace(0.6f, &mirror, "white mirror");
 }
 
+// Every bundled scene renders: a non-black image, every sample finite.
+TEST(PathTracer, EveryBundledSceneRendersFinite)
+{
+    for (const char* name : {"cornell-box", "cornell-box-point", "cornell-box-background", "cornell-box-directional",
+                             "caustics"}) {
+        SCOPED_TRACE(name);
+        Scene scene = loadGltf(std::string(WAVEVCM_SOURCE_DIR) + "/scenes/" + name + ".gltf");
+        Render r = renderPt(test::devicesUnderTest()[0], scene, 32, 24, 4, 3, 8);
+        EXPECT_EQ(r.nonFinite, 0u);
+        double sum = 0;
+        for (float v : r.image.rgb) {
+            ASSERT_TRUE(std::isfinite(v));
+            sum += v;
+        }
+        EXPECT_GT(sum / double(r.image.rgb.size()), 0.01) << "black image";
+    }
+}
+
 double imageMean(const Image& img)
 {
     return std::accumulate(img.rgb.begin(), img.rgb.end(), 0.0) / double(img.rgb.size());
