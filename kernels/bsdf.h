@@ -63,7 +63,12 @@ inline float3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
 {
     float through = layer_transmittance(b, cosW, eta);
     float r = (b->lobes & LOBES_REFLECT) ? luminance(reflectance(b, cosW, eta)) : 0.0f;
-    float t = (b->lobes & LOBES_TRANSMIT) ? through * luminance(b->transmitColor) : 0.0f;
+    /* Rough refraction keeps a floor: microfacets tilted towards w refract
+     * even where the macro-surface reflects totally (through = 0 beyond the
+     * critical angle), and a zero probability would zero its f and pdfs
+     * there, breaking reciprocity with the other side. */
+    float tThrough = ((b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts) ? fmax(through, 0.1f) : through;
+    float t = (b->lobes & LOBES_TRANSMIT) ? tThrough * luminance(b->transmitColor) : 0.0f;
     float d = (b->lobes & LOBE_DIFFUSE) ? through * luminance(b->diffuseColor) : 0.0f;
     float sum = r + t + d;
     return sum > 0.0f ? (float3)(r, t, d) / sum : (float3)(0.0f);
