@@ -97,6 +97,16 @@ inline Bsdf make_bsdf(__global const Material* m, float3 wo, bool frontSide)
     return b;
 }
 
+/* Russian roulette survival probability for the bidirectional algorithms:
+ * an upper bound of the material's albedo that does not depend on direction,
+ * so the same probability enters the forward and the reverse pdfs and the
+ * MIS weights of all techniques still sum to one. */
+inline float continuation_probability(const Bsdf* b)
+{
+    float3 albedo = b->metallic * b->metalF0 + b->specularTint + b->transmitColor + b->diffuseColor;
+    return clamp(max_component(albedo), 0.0f, 1.0f);
+}
+
 inline bool bsdf_is_black(const Bsdf* b) { return b->lobeProb.x + b->lobeProb.y + b->lobeProb.z <= 0.0f; }
 
 /* Whether some lobe has a finite density, i.e. light sampling and
@@ -135,7 +145,9 @@ inline float3 bsdf_eval(const Bsdf* b, float3 wo, float3 wi, bool adjoint, float
         float3 probRev = lobe_probabilities(b, wi.z, b->eta);
 #if SCENE_LOBES & LOBE_DIFFUSE
         if (b->lobeProb.z > 0.0f) {
-            f += b->diffuseColor * layer_transmittance(b, wo.z, b->eta) * INV_PI_F;
+            /* Light enters and leaves through the dielectric layer: both
+             * transmittances, so the lobe is reciprocal. */
+            f += b->diffuseColor * (layer_transmittance(b, wo.z, b->eta) * layer_transmittance(b, wi.z, b->eta) * INV_PI_F);
             *pdfFwd += b->lobeProb.z * wi.z * INV_PI_F;
             *pdfRev += probRev.z * wo.z * INV_PI_F;
         }

@@ -558,14 +558,16 @@ TEST_F(Bsdf, ReversePdfIsForwardPdfFromTheOtherDirection)
 // the microfacet's Fresnel transmittance from opposite ends, and near its
 // critical angle cos θt = sqrt(1 − sin²θ/η²) cancels in float — there
 // T → 0 and f's relative error grows (observed: 3e-4 at f ~ 1, 2% at f ~
-// 1e-5; reflection and Lambert agree to 1e-6). The plastic's diffuse layer,
-// scaled by 1 − F(cos θo), is documented as not reciprocal and is not tested.
+// 1e-5; reflection and Lambert agree to 1e-6). The plastic's diffuse layer
+// is scaled by the layer's transmittance at both directions, so it is
+// reciprocal too.
 TEST_F(Bsdf, Reciprocity)
 {
     const Case cases[] = {
         {"Lambert", Lambert, true},
         {"rough metal", RoughMetal, true},
         {"smoother metal", SmootherMetal, true},
+        {"plastic", Plastic, true},
         {"rough glass outside", RoughGlass, true},
         {"rough glass inside", RoughGlass, false},
     };
