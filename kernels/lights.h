@@ -18,6 +18,12 @@ typedef struct LightSample {
     bool delta;
     int type;         /* LIGHT_* */
     float3 lightPoint, lightNormal, lightError; /* triangle lights: for the shadow ray's far end */
+    /* For the bidirectional MIS (mis.h): the density of having sampled this
+     * direction here (directPdfW; for point and spot lights distance², as in
+     * SmallVCM, since their intensity is not divided by it), that of the
+     * light emitting the ray towards p (emissionPdfW), both with the
+     * selection probability, and the cosine at the light (1 without a surface). */
+    float directPdfW, emissionPdfW, cosAtLight;
 } LightSample;
 
 /* The light whose CDF interval holds u (binary search). */
@@ -51,9 +57,11 @@ inline float triangle_light_pdf(float pmf, float area, float dist, float cosLigh
 /* Density of sampling direction `d` from the background light (uniform sphere). */
 inline float background_light_pdf(float pmf) { return pmf * (0.25f * INV_PI_F); }
 
-inline bool sample_light(__global const Light* lights, __global const float* cdf, int lightCount,
-                         __global const float4* triVertices, float3 p, float3 u, LightSample* s)
+inline bool sample_light(__global const Light* lights, __global const float* cdf,
+                         __global const float4* triVertices, __constant const SceneInfo* scene, float3 p, float3 u,
+                         LightSample* s)
 {
+    int lightCount = scene->lightCount;
     if (lightCount == 0)
         return false;
     Light l = lights[select_light(cdf, lightCount, u.x)];
@@ -81,6 +89,9 @@ inline bool sample_light(__global const Light* lights, __global const float* cdf
         s->radiance = vload3(0, l.emission);
         s->lightPoint = q;
         s->lightNormal = n;
+        s->directPdfW = s->pdf;
+        s->emissionPdfW = l.pmf / l.area * cosLight * INV_PI_F;
+        s->cosAtLight = cosLight;
         return s->pdf > 0.0f && isfinite(s->pdf);
     }
 #endif
@@ -98,6 +109,9 @@ inline bool sample_light(__global const Light* lights, __global const float* cdf
         s->radiance = vload3(0, l.emission) * (falloff / dist2);
         s->pdf = l.pmf;
         s->delta = true;
+        s->directPdfW = l.pmf * dist2;
+        s->emissionPdfW = l.pmf * (l.type == LIGHT_SPOT ? 1.0f / (2.0f * PI_F * (1.0f - l.cosOuterCone)) : 0.25f * INV_PI_F);
+        s->cosAtLight = 1.0f;
         return falloff > 0.0f;
     }
 #endif
@@ -107,6 +121,9 @@ inline bool sample_light(__global const Light* lights, __global const float* cdf
         s->radiance = vload3(0, l.emission);
         s->pdf = l.pmf;
         s->delta = true;
+        s->directPdfW = l.pmf;
+        s->emissionPdfW = l.pmf / (PI_F * scene->radius * scene->radius);
+        s->cosAtLight = 1.0f;
         return true;
 #endif
 #ifdef HAS_BACKGROUND
@@ -114,6 +131,9 @@ inline bool sample_light(__global const Light* lights, __global const float* cdf
         s->direction = sample_uniform_sphere(u.yz);
         s->radiance = vload3(0, l.emission);
         s->pdf = background_light_pdf(l.pmf);
+        s->directPdfW = s->pdf;
+        s->emissionPdfW = s->pdf / (PI_F * scene->radius * scene->radius);
+        s->cosAtLight = 1.0f;
         return true;
 #endif
     default:
@@ -131,7 +151,11 @@ typedef struct EmissionSample {
     float pdfPosition;  /* area density including selection; 1 · selection for point and spot lights */
     float pdfDirection; /* solid-angle density; 1 for directional lights */
     float cosAtLight;   /* 1 for lights without a surface */
+    float directPdf;    /* density of next-event estimation choosing this point (area; solid angle for
+                           infinite lights), with selection; for MIS */
     bool deltaPosition, deltaDirection;
+    bool finite;        /* not directional or background */
+    float3 normal, positionError; /* triangle lights: where the ray leaves from */
     int light;
 } EmissionSample;
 
@@ -139,10 +163,11 @@ typedef struct EmissionSample {
  * position, v the direction. Infinite lights (directional, background) start
  * their rays on a disk of the bounding sphere's radius, facing the scene,
  * just outside the sphere. */
-inline bool sample_emission(__global const Light* lights, __global const float* cdf, int lightCount,
+inline bool sample_emission(__global const Light* lights, __global const float* cdf,
                             __global const float4* triVertices, __constant const SceneInfo* scene, float3 u,
                             float2 v, EmissionSample* e)
 {
+    int lightCount = scene->lightCount;
     if (lightCount == 0)
         return false;
     e->light = select_light(cdf, lightCount, u.x);
@@ -151,6 +176,8 @@ inline bool sample_emission(__global const Light* lights, __global const float* 
     e->cosAtLight = 1.0f;
     e->deltaPosition = false;
     e->deltaDirection = false;
+    e->finite = true;
+    e->positionError = (float3)(0.0f);
     float3 centre = vload3(0, scene->center);
     float radius = scene->radius;
     switch (l.type) {
@@ -159,14 +186,15 @@ inline bool sample_emission(__global const Light* lights, __global const float* 
         float3 v0 = triVertices[3 * l.triangle].xyz, v1 = triVertices[3 * l.triangle + 1].xyz,
                v2 = triVertices[3 * l.triangle + 2].xyz;
         float2 b = sample_triangle(u.yz);
-        float3 error;
-        e->position = surface_point(v0, v1, v2, b.x, b.y, &error);
-        Frame f = frame_from_normal(normalize(cross(v1 - v0, v2 - v0)));
+        e->position = surface_point(v0, v1, v2, b.x, b.y, &e->positionError);
+        e->normal = normalize(cross(v1 - v0, v2 - v0));
+        Frame f = frame_from_normal(e->normal);
         float3 dirLocal = sample_cosine_hemisphere(v);
         e->direction = to_world(&f, dirLocal);
         e->cosAtLight = dirLocal.z;
         e->pdfPosition = l.pmf / l.area;
         e->pdfDirection = dirLocal.z * INV_PI_F;
+        e->directPdf = e->pdfPosition;
         return dirLocal.z > 0.0f;
     }
 #endif
@@ -175,6 +203,7 @@ inline bool sample_emission(__global const Light* lights, __global const float* 
     case LIGHT_SPOT: {
         e->position = vload3(0, l.position);
         e->pdfPosition = l.pmf;
+        e->directPdf = l.pmf;
         e->deltaPosition = true;
         if (l.type == LIGHT_POINT) {
             e->direction = sample_uniform_sphere(v);
@@ -197,13 +226,16 @@ inline bool sample_emission(__global const Light* lights, __global const float* 
     case LIGHT_BACKGROUND:
 #endif
     {
+        e->finite = false;
         if (l.type == LIGHT_DIRECTIONAL) {
             e->direction = vload3(0, l.direction);
             e->pdfDirection = 1.0f;
             e->deltaDirection = true;
+            e->directPdf = l.pmf;
         } else {
             e->direction = -sample_uniform_sphere(v);
             e->pdfDirection = 0.25f * INV_PI_F;
+            e->directPdf = background_light_pdf(l.pmf);
         }
         Frame f = frame_from_normal(e->direction);
         float2 d = sample_disk(u.yz) * radius;
@@ -215,6 +247,47 @@ inline bool sample_emission(__global const Light* lights, __global const float* 
     default:
         return false;
     }
+}
+
+/* For MIS at a camera path's hit on an emissive triangle (front side, cosine
+ * cosLight): the densities of next-event estimation choosing that point
+ * (area) and of the light emitting the ray. */
+inline void triangle_hit_pdfs(float pmf, float area, float cosLight, float* directPdfA, float* emissionPdfW)
+{
+    *directPdfA = pmf / area;
+    *emissionPdfW = *directPdfA * cosLight * INV_PI_F;
+}
+
+/* The same for a ray escaping to the background (solid angle for the direct
+ * density; the emission density adds the disk the ray would start from). */
+inline void background_hit_pdfs(float pmf, float sceneRadius, float* directPdfW, float* emissionPdfW)
+{
+    *directPdfW = background_light_pdf(pmf);
+    *emissionPdfW = *directPdfW / (PI_F * sceneRadius * sceneRadius);
+}
+
+/* Ray from p towards a point `target` with error bound `targetError` on a
+ * surface with normal targetNormal: both ends offset, the segment stopping
+ * just short of the far end (pbrt-v4 SpawnRayTo). */
+inline Ray ray_between(float3 p, float3 pError, float3 n, float3 target, float3 targetError, float3 targetNormal)
+{
+    Ray r;
+    r.origin = offset_ray_origin(p, pError, n, target - p);
+    float3 end = offset_ray_origin(target, targetError, targetNormal, p - target);
+    r.direction = end - r.origin;
+    r.tMax = 1.0f - 1e-4f;
+    return r;
+}
+
+/* The shadow ray of a light sample taken at a surface hit. */
+inline Ray shadow_ray_to_light(float3 p, float3 pError, float3 ng, const LightSample* ls)
+{
+    if (isinf(ls->distance))
+        return spawn_ray(p, pError, ng, ls->direction);
+    if (ls->type == LIGHT_TRIANGLE)
+        return ray_between(p, pError, ng, ls->lightPoint, ls->lightError, ls->lightNormal);
+    /* a point light: nothing at the far end to avoid */
+    return ray_between(p, pError, ng, p + ls->direction * ls->distance, (float3)(0.0f), -ls->direction);
 }
 
 #endif

@@ -18,19 +18,6 @@
 
 inline float power_heuristic(float a, float b) { return a * a / (a * a + b * b); }
 
-/* Ray from p towards a point `target` with error bound `targetError` on a
- * surface with normal targetNormal: both ends offset, the segment stopping
- * just short of the far end (pbrt-v4 SpawnRayTo). */
-inline Ray ray_between(float3 p, float3 pError, float3 n, float3 target, float3 targetError, float3 targetNormal)
-{
-    Ray r;
-    r.origin = offset_ray_origin(p, pError, n, target - p);
-    float3 end = offset_ray_origin(target, targetError, targetNormal, p - target);
-    r.direction = end - r.origin;
-    r.tMax = 1.0f - 1e-4f;
-    return r;
-}
-
 /* Shades the hit of path `slot`; sets *alive if the path continues (its next
  * ray stored) and *shadowRay if a shadow ray was stored for `connect`. */
 inline void shade_hit(__global const float4* triVertices, __global const float4* triNormals,
@@ -46,22 +33,17 @@ inline void shade_hit(__global const float4* triVertices, __global const float4*
                       __global float4* pixelRadiance, bool* aliveOut, bool* shadowOut)
 {
     int tri = hitTriangle[slot];
-    float2 bary = hitBary[slot];
-    float3 v0 = triVertices[3 * tri].xyz, v1 = triVertices[3 * tri + 1].xyz, v2 = triVertices[3 * tri + 2].xyz;
-    float3 pError;
-    float3 p = surface_point(v0, v1, v2, bary.x, bary.y, &pError);
-    float3 ng = normalize(cross(v1 - v0, v2 - v0));
     float3 wo = -rayDirections[slot].xyz;
+    SurfaceHit hit = surface_hit(triVertices, triNormals, tri, hitBary[slot], wo);
     int depth = pathDepth[slot];
     int pixel = pathPixel[slot];
     float3 beta = pathThroughput[slot].xyz;
-    __global const Material* material = &materials[triMaterials[tri]];
     float3 L = (float3)(0.0f);
 
 #ifdef HAS_EMISSIVE_TRIANGLES
     int light = triangleLight[tri];
-    float cosLight = dot(wo, ng);
-    if (light >= 0 && cosLight > 0.0f) {
+    float cosLight = dot(wo, hit.ngF);
+    if (light >= 0 && hit.frontSide) {
         float prevPdf = pathPrevPdf[slot];
         float w = 1.0f;
         if (prevPdf > 0.0f)
@@ -70,44 +52,22 @@ inline void shade_hit(__global const float4* triVertices, __global const float4*
     }
 #endif
 
-    bool alive = depth < maxPathLength;
-    /* The shading frame faces wo. A shading normal on the other side of the
-     * surface from wo than the geometric one is unusable: use the latter. */
-    bool frontSide = dot(wo, ng) > 0.0f;
-    float3 ngF = frontSide ? ng : -ng;
-    float3 nsF = ngF;
-#ifdef HAS_VERTEX_NORMALS
-    nsF = shading_normal(triNormals, tri, bary, ng);
-    nsF = frontSide ? nsF : -nsF;
-    if (dot(nsF, wo) <= 0.0f)
-        nsF = ngF;
-#endif
-    Frame frame = frame_from_normal(nsF);
-    float3 woL = to_local(&frame, wo);
-    Bsdf bsdf = make_bsdf(material, woL, frontSide);
-    alive = alive && !bsdf_is_black(&bsdf);
+    float3 woL = to_local(&hit.frame, wo);
+    Bsdf bsdf = make_bsdf(&materials[triMaterials[tri]], woL, hit.frontSide);
+    bool alive = depth < maxPathLength && !bsdf_is_black(&bsdf);
 
-    if (alive && scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
+    if (alive && bsdf_has_nondelta(&bsdf)) {
         float4 u = rng_uniform4(seed, iteration, (uint)pixel, (uint)depth, 0u);
         LightSample ls;
-        if (sample_light(lights, lightCdf, scene->lightCount, triVertices, p, u.xyz, &ls)) {
-            float3 wiL = to_local(&frame, ls.direction);
-            /* Shading and geometric normal must agree on the side of wi, or light leaks. */
-            if ((wiL.z > 0.0f) == (dot(ls.direction, ngF) > 0.0f)) {
+        if (sample_light(lights, lightCdf, triVertices, scene, hit.p, u.xyz, &ls)) {
+            float3 wiL = to_local(&hit.frame, ls.direction);
+            if (sides_agree(&hit, ls.direction, wiL)) {
                 float pdfBsdf, pdfRev;
                 float3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfBsdf, &pdfRev);
                 if (max_component(f) > 0.0f) {
                     float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, pdfBsdf);
                     float3 contribution = beta * f * fabs(wiL.z) * ls.radiance * (w / ls.pdf);
-                    Ray shadow;
-                    if (isinf(ls.distance))
-                        shadow = spawn_ray(p, pError, ngF, ls.direction);
-                    else if (ls.type == LIGHT_TRIANGLE)
-                        shadow = ray_between(p, pError, ngF, ls.lightPoint, ls.lightError, ls.lightNormal);
-                    else /* a point light: nothing at the far end to avoid */
-                        shadow = ray_between(p, pError, ngF, p + ls.direction * ls.distance, (float3)(0.0f),
-                                             -ls.direction);
-                    store_ray(shadowOrigins, shadowDirections, slot, shadow);
+                    store_ray(shadowOrigins, shadowDirections, slot, shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));
                     shadowContribution[slot] = (float4)(contribution, 0.0f);
                     *shadowOut = true;
                 }
@@ -119,8 +79,8 @@ inline void shade_hit(__global const float4* triVertices, __global const float4*
         float4 u = rng_uniform4(seed, iteration, (uint)pixel, (uint)depth, 1u);
         BsdfSample bs;
         alive = bsdf_sample(&bsdf, woL, u.xyz, false, &bs);
-        float3 wi = to_world(&frame, bs.wi);
-        alive = alive && ((bs.wi.z > 0.0f) == (dot(wi, ngF) > 0.0f));
+        float3 wi = to_world(&hit.frame, bs.wi);
+        alive = alive && sides_agree(&hit, wi, bs.wi);
         if (alive) {
             beta *= bs.weight;
             if (depth >= 3) { /* Russian roulette: survive with probability q, reweight by 1/q */
@@ -135,7 +95,7 @@ inline void shade_hit(__global const float4* triVertices, __global const float4*
             alive = alive && max_component(beta) > 0.0f;
         }
         if (alive) {
-            store_ray(rayOrigins, rayDirections, slot, spawn_ray(p, pError, ngF, wi));
+            store_ray(rayOrigins, rayDirections, slot, spawn_ray(hit.p, hit.pError, hit.ngF, wi));
             pathThroughput[slot] = (float4)(beta, 0.0f);
             pathPrevPdf[slot] = bs.delta ? 0.0f : bs.pdf;
             pathDepth[slot] = depth + 1;

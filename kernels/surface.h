@@ -1,7 +1,12 @@
-/* Surface geometry at a hit: geometric normal from the triangle's winding,
- * shading normal interpolated from vertex normals when the scene has them. */
+/* Surface geometry at a hit: the point with its rounding-error bound, the
+ * geometric normal from the triangle's winding, the shading normal
+ * interpolated from vertex normals when the scene has them, and the local
+ * shading frame facing the direction the hit is seen from. */
 #ifndef WAVEVCM_SURFACE_H
 #define WAVEVCM_SURFACE_H
+
+#include "ray.h"
+#include "sampling.h"
 
 inline float3 geometric_normal(__global const float4* triVertices, int tri)
 {
@@ -19,5 +24,54 @@ inline float3 shading_normal(__global const float4* triNormals, int tri, float2 
     return len > 1e-12f ? n / len : ng;
 }
 #endif
+
+typedef struct SurfaceHit {
+    float3 p, pError;
+    float3 ngF, nsF;  /* geometric and shading normal, flipped to the side of w */
+    Frame frame;      /* around nsF */
+    bool frontSide;   /* w is on the side the geometric normal points to */
+} SurfaceHit;
+
+/* The hit on triangle `tri` at barycentrics `bary`, seen from direction w
+ * (pointing away from the surface). A shading normal on the other side of
+ * the surface from w than the geometric one is unusable; the geometric
+ * normal replaces it. */
+inline SurfaceHit surface_hit(__global const float4* triVertices, __global const float4* triNormals, int tri,
+                              float2 bary, float3 w)
+{
+    SurfaceHit h;
+    float3 v0 = triVertices[3 * tri].xyz, v1 = triVertices[3 * tri + 1].xyz, v2 = triVertices[3 * tri + 2].xyz;
+    h.p = surface_point(v0, v1, v2, bary.x, bary.y, &h.pError);
+    float3 ng = normalize(cross(v1 - v0, v2 - v0));
+    h.frontSide = dot(w, ng) > 0.0f;
+    h.ngF = h.frontSide ? ng : -ng;
+    h.nsF = h.ngF;
+#ifdef HAS_VERTEX_NORMALS
+    float3 ns = shading_normal(triNormals, tri, bary, ng);
+    ns = h.frontSide ? ns : -ns;
+    if (dot(ns, w) > 0.0f)
+        h.nsF = ns;
+#endif
+    h.frame = frame_from_normal(h.nsF);
+    return h;
+}
+
+/* Shading and geometric normal agree on the side of a direction; where they
+ * do not, light would leak through the surface, so such directions carry
+ * nothing. */
+inline bool sides_agree(const SurfaceHit* h, float3 dirWorld, float3 dirLocal)
+{
+    return (dirLocal.z > 0.0f) == (dot(dirWorld, h->ngF) > 0.0f);
+}
+
+/* The factor that makes the BSDF with shading normals the adjoint of itself
+ * for importance transport (Veach 1997, eq. 5.19):
+ * |w_fixed·ns| |w_other·ng| / (|w_fixed·ng| |w_other·ns|), where w_fixed
+ * points back along the light path and w_other towards the camera side. */
+inline float adjoint_shading_correction(const SurfaceHit* h, float3 wFixed, float3 wOther)
+{
+    float denominator = fabs(dot(wFixed, h->ngF)) * fabs(dot(wOther, h->nsF));
+    return denominator > 0.0f ? fabs(dot(wFixed, h->nsF)) * fabs(dot(wOther, h->ngF)) / denominator : 0.0f;
+}
 
 #endif

@@ -65,11 +65,9 @@ Estimate run(const Scene& scene, const char* kernelName, int n, std::array<float
     int arg = 0;
     k.setArg(arg++, buffers.lights);
     k.setArg(arg++, buffers.lightCdf);
-    k.setArg(arg++, table.info.lightCount);
     k.setArg(arg++, buffers.triVertices);
-    if (std::string(kernelName) == "emission_power") {
-        k.setArg(arg++, buffers.sceneInfo);
-    } else {
+    k.setArg(arg++, buffers.sceneInfo);
+    if (std::string(kernelName) == "nee_irradiance") {
         k.setArg(arg++, sizeof(cl_float4), p.data());
         k.setArg(arg++, sizeof(cl_float4), nrm.data());
     }

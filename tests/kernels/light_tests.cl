@@ -5,7 +5,7 @@
 /* Per sample: the power estimate radiance · cos / (pdfPosition · pdfDirection)
  * of one emission sample (0 if none was produced). Its mean is the total
  * power of all lights. */
-__kernel void emission_power(__global const Light* lights, __global const float* cdf, int lightCount,
+__kernel void emission_power(__global const Light* lights, __global const float* cdf,
                              __global const float4* triVertices, __constant const SceneInfo* scene, int n,
                              __global float4* estimates)
 {
@@ -15,15 +15,16 @@ __kernel void emission_power(__global const Light* lights, __global const float*
     float4 u = rng_uniform4(1u, 0u, (uint)i, 0u, 0u), v = rng_uniform4(1u, 0u, (uint)i, 0u, 1u);
     EmissionSample e;
     float3 estimate = (float3)(0.0f);
-    if (sample_emission(lights, cdf, lightCount, triVertices, scene, u.xyz, v.xy, &e))
+    if (sample_emission(lights, cdf, triVertices, scene, u.xyz, v.xy, &e))
         estimate = e.radiance * (e.cosAtLight / (e.pdfPosition * e.pdfDirection));
     estimates[i] = (float4)(estimate, 0.0f);
 }
 
 /* Per sample: the NEE estimate of irradiance at point p with normal n,
  * radiance · max(0, cos) / pdf. Its mean is the irradiance from all lights. */
-__kernel void nee_irradiance(__global const Light* lights, __global const float* cdf, int lightCount,
-                             __global const float4* triVertices, float4 p, float4 n, int count,
+__kernel void nee_irradiance(__global const Light* lights, __global const float* cdf,
+                             __global const float4* triVertices, __constant const SceneInfo* scene, float4 p,
+                             float4 n, int count,
                              __global float4* estimates)
 {
     int i = get_global_id(0);
@@ -32,7 +33,7 @@ __kernel void nee_irradiance(__global const Light* lights, __global const float*
     float4 u = rng_uniform4(2u, 0u, (uint)i, 0u, 0u);
     LightSample s;
     float3 estimate = (float3)(0.0f);
-    if (sample_light(lights, cdf, lightCount, triVertices, p.xyz, u.xyz, &s))
+    if (sample_light(lights, cdf, triVertices, scene, p.xyz, u.xyz, &s))
         estimate = s.radiance * (fmax(0.0f, dot(s.direction, n.xyz)) / s.pdf);
     estimates[i] = (float4)(estimate, 0.0f);
 }
