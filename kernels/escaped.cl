@@ -1,22 +1,37 @@
-/* escaped: rays that left the scene see the background light (MIS-weighted
- * against having sampled it with next-event estimation); the path ends. */
+/* escaped: camera rays that left the scene see the background light,
+ * MIS-weighted against the other techniques that find it (power heuristic
+ * against next-event estimation for pt, the recursive weights for the
+ * bidirectional algorithms); light paths that leave just end. The slot is
+ * freed either way. */
 #include "lights.h"
+#include "mis.h"
 #include "queues.h"
 
-__kernel void escaped(__global const Light* lights, __constant const SceneInfo* scene, int capacity,
-                      int freeQueue, __global int* queueItems, __global int* queueCounters,
-                      __global const int* pathPixel, __global const float4* pathThroughput,
-                      __global const float* pathPrevPdf, __global float4* pixelRadiance)
+__kernel void escaped(int capacity, int freeQueue, __global int* queueItems, __global int* queueCounters,
+                      int cameraPaths, __global const Light* lights, __constant const SceneInfo* scene,
+                      __global const int* pathPixel, __global const int* pathDepth,
+                      __global const float4* pathThroughput, __global const float* pathPrevPdf,
+                      __global const float4* pathMis, __global float4* pixelRadiance)
 {
     __local int scratch[2];
     int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_ESCAPED, get_global_id(0));
 #if defined(HAS_BACKGROUND) && !defined(EYE_LIGHT)
-    if (slot >= 0 && scene->backgroundLight >= 0) {
+    if (slot >= 0 && cameraPaths && scene->backgroundLight >= 0) {
         __global const Light* bg = &lights[scene->backgroundLight];
+        float w = 1.0f; /* seen directly, or through delta scattering only */
+#ifdef BIDIRECTIONAL
+        if (pathDepth[slot] > 1) {
+            PathMis mis = load_mis(pathMis, slot);
+            float directPdfW, emissionPdfW;
+            background_hit_pdfs(bg->pmf, scene->radius, &directPdfW, &emissionPdfW);
+            w = 1.0f / (1.0f + directPdfW * mis.dVCM + emissionPdfW * mis.dVC);
+        }
+#else
         float prevPdf = pathPrevPdf[slot];
         float lightPdf = background_light_pdf(bg->pmf);
-        /* Power heuristic; prevPdf = 0 marks a delta or camera segment. */
-        float w = prevPdf > 0.0f ? prevPdf * prevPdf / (prevPdf * prevPdf + lightPdf * lightPdf) : 1.0f;
+        if (prevPdf > 0.0f)
+            w = prevPdf * prevPdf / (prevPdf * prevPdf + lightPdf * lightPdf);
+#endif
         pixelRadiance[pathPixel[slot]] += (float4)(w * pathThroughput[slot].xyz * vload3(0, bg->emission), 0.0f);
     }
 #endif

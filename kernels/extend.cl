@@ -4,8 +4,8 @@
 #include "path_state.h"
 #include "queues.h"
 
-__kernel void extend(__global const BvhNode* nodes, __global const float4* triVertices, int capacity,
-                     int rayQueue, __global int* queueItems, __global int* queueCounters,
+__kernel void extend(int capacity, int rayQueue, __global int* queueItems, __global int* queueCounters,
+                     __global const BvhNode* nodes, __global const float4* triVertices,
                      __global const float4* rayOrigins, __global const float4* rayDirections,
                      __global float* hitT, __global int* hitTriangle, __global float2* hitBary)
 {

@@ -76,10 +76,24 @@ inline bool intersect_triangle(const ShearedRay* s, float3 v0, float3 v1, float3
     Az *= s->sz; Bz *= s->sz; Cz *= s->sz;
     float T = U * Az + V * Bz + W * Cz;
     /* Divide before comparing: the hit is reported iff the t we return lies
-     * in (0, tMax), so closest-hit and any-hit agree at every segment end. */
+     * in (deltaT, tMax), so closest-hit and any-hit agree at every segment end. */
     float invDet = 1.0f / det;
     float tHit = T * invDet;
-    if (!(tHit > 0.0f && tHit < tMax))
+    if (!(tHit < tMax))
+        return false;
+    /* t must exceed its own rounding error (pbrt-v4, Triangle::Intersect,
+     * after Woop et al. §4): a ray that starts on the triangle, e.g. on a
+     * plane through the origin where the hit point's error bound and so the
+     * ray offset are zero, must not hit it at t ≈ 0. */
+    float maxZ = fmax(fabs(Az), fmax(fabs(Bz), fabs(Cz)));
+    float maxX = fmax(fabs(Ax), fmax(fabs(Bx), fabs(Cx)));
+    float maxY = fmax(fabs(Ay), fmax(fabs(By), fabs(Cy)));
+    float deltaZ = GAMMA(3) * maxZ;
+    float deltaX = GAMMA(5) * (maxX + maxZ), deltaY = GAMMA(5) * (maxY + maxZ);
+    float deltaE = 2.0f * (GAMMA(2) * maxX * maxY + deltaY * maxX + deltaX * maxY);
+    float maxE = fmax(fabs(U), fmax(fabs(V), fabs(W)));
+    float deltaT = 3.0f * (GAMMA(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * fabs(invDet);
+    if (!(tHit > deltaT))
         return false;
     *t = tHit;
     *b1 = V * invDet;

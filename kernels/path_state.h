@@ -5,6 +5,9 @@
 
 #include "ray.h"
 
+/* Bits of pathFlags. */
+#define PATH_FINITE_LIGHT 1 /* a light path from a light with a position */
+
 inline Ray load_ray(__global const float4* origins, __global const float4* directions, int slot)
 {
     float4 o = origins[slot], d = directions[slot];

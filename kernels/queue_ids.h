@@ -18,8 +18,9 @@
 #define QUEUE_FREE(parity) (4 + 2 * (parity)) /* slots whose path ended: to regenerate */
 #define QUEUE_COUNT 7
 
-#define COUNTER_NONFINITE 7 /* samples dropped because they were NaN or Inf (all iterations) */
-#define COUNTER_COUNT 8
+#define COUNTER_LIGHT_VERTICES 7 /* light vertices stored (and wanted: may exceed the buffer) */
+#define COUNTER_NONFINITE 8      /* samples dropped because they were NaN or Inf (all iterations) */
+#define COUNTER_COUNT 9
 
 #define COUNTER_STRIDE 16 /* ints: one 64-byte cache line per counter */
 #define COUNTER_INDEX(c) ((c) * COUNTER_STRIDE)

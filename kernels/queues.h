@@ -6,26 +6,34 @@
 
 #include "queue_ids.h"
 
-/* Appends `slot` to `queue` if `push`. Aggregated per work-group: one
- * global atomic per group reserves room for all its items. A global atomic
- * per item cost ~95 ns on a 2-core CPU (the counter's cache line bounces
- * between the cores), more than the shading itself. Contains barriers: every
- * work-item of the group must call it, pushing or not. `scratch` is __local
- * int[2], free for reuse after the call. */
-inline void queue_push(__global int* items, __global int* counters, int capacity, int queue, bool push, int slot,
-                       __local int* scratch)
+/* Takes the next index of counter `counter` for every work-item that
+ * `wants` one (-1 for the others). Aggregated per work-group: one global
+ * atomic per group reserves room for all its items. A global atomic per item
+ * cost ~95 ns on a 2-core CPU (the counter's cache line bounces between the
+ * cores), more than the shading itself. Contains barriers: every work-item
+ * of the group must call it. `scratch` is __local int[2], free after the call. */
+inline int group_allocate(__global int* counters, int counter, bool wants, __local int* scratch)
 {
     if (get_local_id(0) == 0)
         scratch[0] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    int index = push ? atomic_inc(&scratch[0]) : 0;
+    int index = wants ? atomic_inc(&scratch[0]) : 0;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (get_local_id(0) == 0)
-        scratch[1] = scratch[0] > 0 ? atomic_add(&counters[COUNTER_INDEX(queue)], scratch[0]) : 0;
+        scratch[1] = scratch[0] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter)], scratch[0]) : 0;
     barrier(CLK_LOCAL_MEM_FENCE);
+    int result = wants ? scratch[1] + index : -1;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    return result;
+}
+
+/* Appends `slot` to `queue` if `push` (group_allocate's rules apply). */
+inline void queue_push(__global int* items, __global int* counters, int capacity, int queue, bool push, int slot,
+                       __local int* scratch)
+{
+    int index = group_allocate(counters, queue, push, scratch);
     if (push)
-        items[queue * capacity + scratch[1] + index] = slot;
-    barrier(CLK_LOCAL_MEM_FENCE);
+        items[queue * capacity + index] = slot;
 }
 
 /* The slot of the i-th entry of `queue`, or -1 past its end. */

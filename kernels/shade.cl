@@ -107,14 +107,13 @@ inline void shade_hit(__global const float4* triVertices, __global const float4*
     *aliveOut = alive;
 }
 
-__kernel void shade(__global const float4* triVertices, __global const float4* triNormals,
-                    __global const int* triMaterials, __global const Material* materials,
-                    __global const Light* lights, __global const float* lightCdf,
-                    __global const int* triangleLight, __constant const SceneInfo* scene, uint seed,
-                    uint iteration, int maxPathLength, int capacity, int nextRayQueue, int freeQueue,
-                    __global int* queueItems, __global int* queueCounters,
-                    __global float4* rayOrigins, __global float4* rayDirections,
-                    __global const float* hitT, __global const int* hitTriangle,
+__kernel void shade(int capacity, int nextRayQueue, int freeQueue, uint iteration, __global int* queueItems,
+                    __global int* queueCounters, __global const float4* triVertices,
+                    __global const float4* triNormals, __global const int* triMaterials,
+                    __global const Material* materials, __global const Light* lights,
+                    __global const float* lightCdf, __global const int* triangleLight,
+                    __constant const SceneInfo* scene, uint seed, int maxPathLength,
+                    __global float4* rayOrigins, __global float4* rayDirections, __global const float* hitT, __global const int* hitTriangle,
                     __global const float2* hitBary, __global const int* pathPixel,
                     __global int* pathDepth, __global float4* pathThroughput,
                     __global float* pathPrevPdf, __global float4* shadowOrigins,

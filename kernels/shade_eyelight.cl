@@ -5,9 +5,10 @@
 #include "queues.h"
 #include "surface.h"
 
-__kernel void shade_eyelight(__global const float4* triVertices, __global const float4* triNormals,
-                             int capacity, int freeQueue, __global int* queueItems,
-                             __global int* queueCounters, __global const float4* rayDirections,
+__kernel void shade_eyelight(int capacity, int nextRayQueue, int freeQueue, uint iteration,
+                             __global int* queueItems, __global int* queueCounters,
+                             __global const float4* triVertices, __global const float4* triNormals,
+                             __global const float4* rayDirections,
                              __global const int* hitTriangle, __global const float2* hitBary,
                              __global const int* pathPixel, __global float4* pixelRadiance)
 {

@@ -91,6 +91,24 @@ typedef struct Light {
     float pad;
 } Light;
 
+/* A vertex of a light sub-path, stored for vertex connection (and merging):
+ * everything a camera vertex needs to connect to it, 80 bytes. Vertices of
+ * one light path form a list from its last vertex back (prev). */
+typedef struct LightVertex {
+    float position[3];
+    int prev;            /* previous stored vertex of the same light path, -1 at its first */
+    float throughput[3]; /* of the light path up to and including this vertex's incoming segment */
+    float dVCM;
+    float toLight[3];    /* unit direction back along the light path */
+    float dVC;
+    float dVM;
+    int pathLength;      /* segments from the light to this vertex */
+    int triangle;        /* BVH-ordered: material, normals */
+    float b1;            /* barycentrics of the hit */
+    float b2;
+    float pad[3];
+} LightVertex;
+
 /* Scene-wide constants the kernels need besides the arrays. */
 typedef struct SceneInfo {
     float center[3]; /* bounding sphere, for infinite lights */

@@ -153,7 +153,7 @@ private:
                    bary = deviceBuffer(device_, n * 8, "bary");
         cl::Kernel k(program_, kernel.c_str());
         if (kernel == "extend")
-            setArgs(k, buffers_.nodes, buffers_.triVertices, int(n), int(QUEUE_RAYS(0)), in.items, in.counters,
+            setArgs(k, int(n), int(QUEUE_RAYS(0)), in.items, in.counters, buffers_.nodes, buffers_.triVertices,
                     in.origins, in.directions, t, tri, bary);
         else
             setArgs(k, buffers_.triVertices, triangleCount_, in.origins, in.directions, int(n), t, tri);

@@ -91,7 +91,7 @@ int runRender(const RenderOptions& o)
     RenderSettings settings;
     settings.algorithm = parseAlgorithm(o.algorithm);
     if (!isImplemented(settings.algorithm))
-        throw Error("algorithm '" + o.algorithm + "' is not implemented yet (available: el, pt)");
+        throw Error("algorithm '" + o.algorithm + "' is not implemented yet (available: el, pt, lt, bpt)");
     // Check the output's format before the render, not after it.
     std::string ext = fs::path(o.output).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));

@@ -29,6 +29,10 @@ std::string algorithmName(Algorithm a)
     return "?";
 }
 
-bool isImplemented(Algorithm a) { return a == Algorithm::EyeLight || a == Algorithm::PathTracing; }
+bool isImplemented(Algorithm a)
+{
+    return a == Algorithm::EyeLight || a == Algorithm::PathTracing || a == Algorithm::LightTracing ||
+           a == Algorithm::Bidirectional;
+}
 
 } // namespace wv

@@ -9,7 +9,7 @@
 namespace wv {
 
 // The per-slot element sizes, in the order of the members.
-static const size_t kFieldBytes[] = {16, 16, 4, 4, 16, 4, 4, 4, 8, 16, 16, 16, 4 * QUEUE_COUNT, 4};
+static const size_t kFieldBytes[] = {16, 16, 4, 4, 16, 4, 16, 4, 4, 4, 4, 8, 16, 16, 16, 4, 4 * QUEUE_COUNT, 4};
 
 size_t PathState::bytesPerPath() { return std::accumulate(std::begin(kFieldBytes), std::end(kFieldBytes), size_t(0)); }
 
@@ -26,12 +26,16 @@ PathState::PathState(DeviceContext& device, int capacity_) : capacity(capacity_)
     pathDepth = buffer(4, "depths");
     pathThroughput = buffer(16, "throughput");
     pathPrevPdf = buffer(4, "pdfs");
+    pathMis = buffer(16, "MIS quantities");
+    pathFlags = buffer(4, "flags");
+    pathLastVertex = buffer(4, "last light vertices");
     hitT = buffer(4, "hit distances");
     hitTriangle = buffer(4, "hit triangles");
     hitBary = buffer(8, "barycentrics");
     shadowOrigins = buffer(16, "shadow ray origins");
     shadowDirections = buffer(16, "shadow ray directions");
     shadowContribution = buffer(16, "shadow ray contributions");
+    shadowPixel = buffer(4, "splat pixels");
     queueItems = buffer(4 * QUEUE_COUNT, "queues");
     std::vector<int> indices(n);
     std::iota(indices.begin(), indices.end(), 0);

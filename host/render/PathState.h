@@ -18,13 +18,17 @@ struct PathState {
     cl::Buffer pathPixel;         // int: the pixel (= sample) the path belongs to
     cl::Buffer pathDepth;         // int: segments so far, the camera segment included
     cl::Buffer pathThroughput;    // float4
-    cl::Buffer pathPrevPdf;       // float: solid-angle pdf of the last BSDF sample, 0 = delta or camera
+    cl::Buffer pathPrevPdf;       // float: solid-angle pdf of the last BSDF sample, 0 = delta or camera (pt)
+    cl::Buffer pathMis;           // float4: dVCM, dVC, dVM (bidirectional; kernels/mis.h)
+    cl::Buffer pathFlags;         // int: PATH_* bits (kernels/path_state.h)
+    cl::Buffer pathLastVertex;    // int: the light path's last stored vertex
     cl::Buffer hitT;              // float
     cl::Buffer hitTriangle;       // int
     cl::Buffer hitBary;           // float2
     cl::Buffer shadowOrigins;     // float4
     cl::Buffer shadowDirections;  // float4, w = tMax
     cl::Buffer shadowContribution;// float4
+    cl::Buffer shadowPixel;       // int: where a light-tracing shadow ray splats
     cl::Buffer queueItems;        // int[QUEUE_COUNT × capacity]
     cl::Buffer counters;          // int[COUNTER_COUNT × COUNTER_STRIDE]
     cl::Buffer slotIndices;       // int[capacity] = 0, 1, 2, ...: the initial free queue

@@ -9,9 +9,15 @@ namespace wv {
 
 std::vector<std::string> Renderer::kernelFiles(Algorithm algorithm)
 {
-    if (algorithm == Algorithm::EyeLight)
+    switch (algorithm) {
+    case Algorithm::EyeLight:
         return {"generate.cl", "extend.cl", "shade_eyelight.cl", "escaped.cl", "accumulate.cl"};
-    return {"generate.cl", "extend.cl", "shade.cl", "escaped.cl", "connect.cl", "accumulate.cl"};
+    case Algorithm::PathTracing:
+        return {"generate.cl", "extend.cl", "shade.cl", "escaped.cl", "connect.cl", "accumulate.cl"};
+    default:
+        return {"generate.cl", "extend.cl", "shade_light.cl", "connect_vertices.cl", "shade_bidirectional.cl",
+                "escaped.cl", "connect.cl", "accumulate.cl"};
+    }
 }
 
 int defaultWavefront(const DeviceInfo& device)
@@ -26,9 +32,8 @@ static size_t roundUp(size_t x, size_t multiple) { return (x + multiple - 1) / m
 static PathState makePathState(DeviceContext& device, const RenderSettings& s)
 {
     int wavefront = s.wavefront > 0 ? s.wavefront : defaultWavefront(device.info);
-    // Launches cover the whole capacity in work-groups of 64 (kernels return
-    // past a queue's size), so the capacity is a multiple of 64 and no larger
-    // than one iteration needs.
+    // Launches cover queue sizes in work-groups of 64, so the capacity is a
+    // multiple of 64, and no larger than one iteration needs.
     wavefront = std::min(wavefront, s.width * s.height);
     return PathState(device, int(roundUp(size_t(wavefront), 64)));
 }
@@ -39,25 +44,34 @@ template <typename... Args> static void setArgs(cl::Kernel& kernel, const Args&.
     (kernel.setArg(index++, args), ...);
 }
 
+// Placeholders for the arguments every round sets.
+static const int kRoundArg = 0;
+
 Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings)
     : device_(device), settings_(settings), lights_(buildLightTable(scene, bvh)),
       sceneBuffers_(device, scene, bvh, lights_), paths_(makePathState(device, settings))
 {
-    if (!isImplemented(settings.algorithm))
-        throw Error("algorithm '" + algorithmName(settings.algorithm) + "' is not implemented yet");
-    bool eyeLight = settings.algorithm == Algorithm::EyeLight;
+    Algorithm algorithm = settings.algorithm;
+    if (!isImplemented(algorithm))
+        throw Error("algorithm '" + algorithmName(algorithm) + "' is not implemented yet");
+    bidirectional_ = algorithm == Algorithm::LightTracing || algorithm == Algorithm::Bidirectional;
+    bool bpt = algorithm == Algorithm::Bidirectional;
     pixels_ = settings.width * settings.height;
     Camera camera = makeCamera(scene.camera, settings.width, settings.height);
     camera_ = uploadBuffer(device, &camera, sizeof camera, "the camera");
     size_t imageBytes = size_t(pixels_) * 16;
     pixelRadiance_ = deviceBuffer(device, imageBytes, "the iteration's radiance");
+    splatRadiance_ = deviceBuffer(device, imageBytes, "the light-tracing splats");
     framebuffer_ = deviceBuffer(device, imageBytes, "the framebuffer");
-    device.queue.enqueueFillBuffer(pixelRadiance_, 0.0f, 0, imageBytes);
-    device.queue.enqueueFillBuffer(framebuffer_, 0.0f, 0, imageBytes);
+    for (cl::Buffer* b : {&pixelRadiance_, &splatRadiance_, &framebuffer_})
+        device.queue.enqueueFillBuffer(*b, 0.0f, 0, imageBytes);
     device.queue.enqueueFillBuffer(paths_.counters, 0, 0, kCounterBytes);
 
-    std::string source = expandKernelSources(findKernelDir(), kernelFiles(settings.algorithm));
-    std::string options = "-cl-std=CL1.2" + scene.features().buildOptions() + (eyeLight ? " -DEYE_LIGHT" : "");
+    std::string source = expandKernelSources(findKernelDir(), kernelFiles(algorithm));
+    std::string options = "-cl-std=CL1.2" + scene.features().buildOptions();
+    if (algorithm == Algorithm::EyeLight) options += " -DEYE_LIGHT";
+    if (bidirectional_) options += " -DBIDIRECTIONAL";
+    if (algorithm == Algorithm::LightTracing) options += " -DLIGHT_TRACING";
     build_ = buildProgram(device.context, device.info, source, options);
 
     // One fixed local size: PoCL compiles a work-group function per local
@@ -66,33 +80,120 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     profiling_ = (device.queue.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0;
     const PathState& p = paths_;
     const SceneBuffers& s = sceneBuffers_;
-    int capacity = p.capacity;
-    generate_ = cl::Kernel(build_.program, "generate");
-    setArgs(generate_, camera_, settings.seed, 0u, capacity, 0, 0, 0, 0, 0, p.queueItems, p.counters, p.rayOrigins,
-            p.rayDirections, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathPrevPdf);
-    extend_ = cl::Kernel(build_.program, "extend");
-    setArgs(extend_, s.nodes, s.triVertices, capacity, 0, p.queueItems, p.counters, p.rayOrigins, p.rayDirections,
-            p.hitT, p.hitTriangle, p.hitBary);
-    escaped_ = cl::Kernel(build_.program, "escaped");
-    setArgs(escaped_, s.lights, s.sceneInfo, capacity, 0, p.queueItems, p.counters, p.pathPixel, p.pathThroughput,
-            p.pathPrevPdf, pixelRadiance_);
-    accumulate_ = cl::Kernel(build_.program, "accumulate");
-    setArgs(accumulate_, pixelRadiance_, pixels_, 0u, framebuffer_, p.counters);
-    if (eyeLight) {
-        shade_ = cl::Kernel(build_.program, "shade_eyelight");
-        setArgs(shade_, s.triVertices, s.triNormals, capacity, 0, p.queueItems, p.counters, p.rayDirections,
+    const int r = kRoundArg;
+    const float lightTracePaths = float(pixels_); // light paths per iteration, for light tracing's MIS
+    // Without merging the VM weights vanish (Georgiev's report, eq. 20 with η_VCM unused).
+    const float vmWeightFactor = 0.0f, vcWeightFactor = 0.0f;
+    auto kernel = [&](const char* name) { return cl::Kernel(build_.program, name); };
+
+    // Camera sub-paths.
+    Phase& c = cameraPhase_;
+    c.generate = kernel("generate");
+    setArgs(c.generate, r, r, r, r, r, r, 0u, p.queueItems, p.counters, camera_, settings.seed, lightTracePaths,
+            p.rayOrigins, p.rayDirections, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathPrevPdf, p.pathMis);
+    c.extend = kernel("extend");
+    setArgs(c.extend, r, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.rayOrigins, p.rayDirections, p.hitT,
+            p.hitTriangle, p.hitBary);
+    c.escaped = kernel("escaped");
+    setArgs(c.escaped, r, r, p.queueItems, p.counters, 1, s.lights, s.sceneInfo, p.pathPixel, p.pathDepth,
+            p.pathThroughput, p.pathPrevPdf, p.pathMis, pixelRadiance_);
+    switch (algorithm) {
+    case Algorithm::EyeLight:
+        c.shade = kernel("shade_eyelight");
+        setArgs(c.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, p.rayDirections,
                 p.hitTriangle, p.hitBary, p.pathPixel, pixelRadiance_);
-    } else {
-        shade_ = cl::Kernel(build_.program, "shade");
-        setArgs(shade_, s.triVertices, s.triNormals, s.triMaterials, s.materials, s.lights, s.lightCdf,
-                s.triangleLight, s.sceneInfo, settings.seed, 0u, settings.maxPathLength, capacity, 0, 0,
-                p.queueItems, p.counters, p.rayOrigins, p.rayDirections, p.hitT, p.hitTriangle, p.hitBary,
-                p.pathPixel, p.pathDepth, p.pathThroughput, p.pathPrevPdf, p.shadowOrigins, p.shadowDirections,
+        break;
+    case Algorithm::PathTracing:
+        c.shade = kernel("shade");
+        setArgs(c.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials,
+                s.materials, s.lights, s.lightCdf, s.triangleLight, s.sceneInfo, settings.seed,
+                settings.maxPathLength, p.rayOrigins, p.rayDirections, p.hitT, p.hitTriangle, p.hitBary, p.pathPixel,
+                p.pathDepth, p.pathThroughput, p.pathPrevPdf, p.shadowOrigins, p.shadowDirections,
                 p.shadowContribution, pixelRadiance_);
-        connect_ = cl::Kernel(build_.program, "connect");
-        setArgs(connect_, s.nodes, s.triVertices, capacity, p.queueItems, p.counters, p.shadowOrigins,
-                p.shadowDirections, p.shadowContribution, p.pathPixel, pixelRadiance_);
+        break;
+    default:
+        c.shade = kernel("shade_bidirectional");
+        setArgs(c.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials,
+                s.materials, s.lights, s.lightCdf, s.triangleLight, s.sceneInfo, settings.seed,
+                settings.maxPathLength, vmWeightFactor, vcWeightFactor, p.rayOrigins, p.rayDirections, p.hitT,
+                p.hitTriangle, p.hitBary, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, p.shadowOrigins,
+                p.shadowDirections, p.shadowContribution, pixelRadiance_);
     }
+    if (algorithm == Algorithm::PathTracing || bpt) {
+        c.connect = kernel("connect");
+        setArgs(c.connect, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.shadowOrigins, p.shadowDirections,
+                p.shadowContribution, p.pathPixel, pixelRadiance_);
+        c.hasConnect = true;
+    }
+    accumulate_ = kernel("accumulate");
+    setArgs(accumulate_, pixelRadiance_, splatRadiance_, pixels_, 0u, framebuffer_, p.counters);
+    if (!bidirectional_) return;
+
+    // Light sub-paths, and the light vertices camera paths connect to.
+    batch_ = pixels_;
+    lightPathHead_ = deviceBuffer(device, size_t(pixels_) * sizeof(int), "the light path heads");
+    vertexBudget_ = std::min<size_t>(device.info.maxAllocation, device.info.globalMemory / 2) / sizeof(LightVertex);
+    vertexCapacity_ = 1;
+    if (bpt) ensureLightVertexCapacity(size_t(pixels_) * 2);
+    else lightVertices_ = deviceBuffer(device, sizeof(LightVertex), "the light vertices");
+    Phase& l = lightPhase_;
+    l.generate = kernel("generate_light");
+    setArgs(l.generate, r, r, r, r, r, r, 0u, p.queueItems, p.counters, s.lights, s.lightCdf, s.triVertices,
+            s.sceneInfo, settings.seed, vcWeightFactor, p.rayOrigins, p.rayDirections, p.pathPixel, p.pathDepth,
+            p.pathThroughput, p.pathMis, p.pathFlags, p.pathLastVertex, 0, lightPathHead_);
+    l.extend = kernel("extend");
+    setArgs(l.extend, r, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.rayOrigins, p.rayDirections, p.hitT,
+            p.hitTriangle, p.hitBary);
+    l.shade = kernel("shade_light");
+    setArgs(l.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials, s.materials,
+            camera_, settings.seed, settings.maxPathLength, lightTracePaths, 1, int(bpt), vmWeightFactor,
+            vcWeightFactor, p.rayOrigins, p.rayDirections, p.hitT, p.hitTriangle, p.hitBary, p.pathPixel, p.pathDepth,
+            p.pathThroughput, p.pathMis, p.pathFlags, p.pathLastVertex, p.shadowOrigins, p.shadowDirections,
+            p.shadowContribution, p.shadowPixel, lightVertices_, int(vertexCapacity_), 0, lightPathHead_);
+    l.escaped = kernel("escaped");
+    setArgs(l.escaped, r, r, p.queueItems, p.counters, 0, s.lights, s.sceneInfo, p.pathPixel, p.pathDepth,
+            p.pathThroughput, p.pathPrevPdf, p.pathMis, pixelRadiance_);
+    l.connect = kernel("connect_splat");
+    setArgs(l.connect, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.shadowOrigins, p.shadowDirections,
+            p.shadowContribution, p.shadowPixel, splatRadiance_);
+    l.hasConnect = true;
+    if (bpt) {
+        c.connectVertices = kernel("connect_vertices");
+        setArgs(c.connectVertices, r, p.queueItems, p.counters, s.nodes, s.triVertices, s.triNormals, s.triMaterials,
+                s.materials, settings.maxPathLength, vmWeightFactor, p.rayDirections, p.hitT, p.hitTriangle,
+                p.hitBary, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, lightVertices_, 0, lightPathHead_,
+                pixelRadiance_);
+        c.hasConnectVertices = true;
+    }
+}
+
+size_t Renderer::deviceBytes() const
+{
+    return sceneBuffers_.bytes + paths_.bytes + size_t(pixels_) * 48 +
+           (bidirectional_ ? vertexCapacity_ * sizeof(LightVertex) + size_t(pixels_) * sizeof(int) : 0);
+}
+
+// Makes room for at least `vertices` light vertices (80 bytes each), within
+// the device's limits; the kernels that write and read them get the new buffer.
+void Renderer::ensureLightVertexCapacity(size_t vertices)
+{
+    vertices = std::min(vertices, vertexBudget_);
+    if (vertices <= vertexCapacity_ && lightVertices_()) return;
+    vertexCapacity_ = vertices;
+    lightVertices_ = deviceBuffer(device_, vertexCapacity_ * sizeof(LightVertex), "the light vertices");
+    if (lightPhase_.shade()) {
+        lightPhase_.shade.setArg(33, lightVertices_);
+        lightPhase_.shade.setArg(34, int(vertexCapacity_));
+        cameraPhase_.connectVertices.setArg(18, lightVertices_);
+    }
+}
+
+int Renderer::lightVertexCount()
+{
+    int count = 0;
+    device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE,
+                                    size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int), sizeof count, &count);
+    return count;
 }
 
 void Renderer::launch(cl::Kernel& kernel, size_t items)
@@ -109,9 +210,9 @@ void Renderer::launch(cl::Kernel& kernel, size_t items)
 }
 
 // One round: `generated` new paths into free slots, then every live path
-// (`live` of them at most) advances one segment. Consumes RAYS(parity) and
-// FREE(parity), fills the other pair.
-void Renderer::round(int parity, size_t generated, size_t issued, size_t rays)
+// (`rays` continuing ones plus the new ones) advances one segment. Consumes
+// RAYS(parity) and FREE(parity), fills the other pair.
+void Renderer::round(Phase& phase, int parity, size_t generated, size_t issued, size_t rays)
 {
     int next = 1 - parity;
     auto counterOffset = [](int c) { return size_t(COUNTER_INDEX(c)) * sizeof(int); };
@@ -120,45 +221,50 @@ void Renderer::round(int parity, size_t generated, size_t issued, size_t rays)
     };
     clearCounters(QUEUE_HITS, 3); // hits, escaped, shadow
     clearCounters(QUEUE_RAYS(next), 2);
-    setArgs(generate_, camera_, settings_.seed, uint32_t(iteration_), paths_.capacity, QUEUE_FREE(parity),
-            QUEUE_RAYS(parity), int(generated), int(issued), int(rays));
-    extend_.setArg(3, QUEUE_RAYS(parity));
-    escaped_.setArg(3, QUEUE_FREE(next));
+    int capacity = paths_.capacity;
+    setArgs(phase.generate, capacity, QUEUE_FREE(parity), QUEUE_RAYS(parity), int(generated), int(issued),
+            int(rays));
+    setArgs(phase.extend, capacity, QUEUE_RAYS(parity));
+    setArgs(phase.shade, capacity, QUEUE_RAYS(next), QUEUE_FREE(next));
+    setArgs(phase.escaped, capacity, QUEUE_FREE(next));
     size_t live = rays + generated;
-    launch(generate_, std::max<size_t>(generated, 1)); // item 0 also sets the ray queue's length
-    launch(extend_, live);
-    if (settings_.algorithm == Algorithm::EyeLight) {
-        shade_.setArg(3, QUEUE_FREE(next));
-    } else {
-        shade_.setArg(12, QUEUE_RAYS(next));
-        shade_.setArg(13, QUEUE_FREE(next));
+    launch(phase.generate, std::max<size_t>(generated, 1)); // item 0 also sets the ray queue's length
+    launch(phase.extend, live);
+    if (phase.hasConnectVertices) {
+        phase.connectVertices.setArg(0, capacity);
+        launch(phase.connectVertices, live);
     }
-    launch(shade_, live);
-    launch(escaped_, live);
-    if (settings_.algorithm != Algorithm::EyeLight) launch(connect_, live);
+    launch(phase.shade, live);
+    launch(phase.escaped, live);
+    if (phase.hasConnect) {
+        phase.connect.setArg(0, capacity);
+        launch(phase.connect, live);
+    }
 }
 
-void Renderer::iterate()
+// Runs paths for samples [firstSample, firstSample + count) to completion.
+// The host reads the counters once per round, to size the next round's
+// launches (OpenCL 1.2 has no indirect dispatch) and to see when the phase is
+// over. Launching over the full capacity instead, with kernels returning past
+// their queue's size, cost more on PoCL than the ~70 µs synchronisation:
+// most rounds have few live paths.
+void Renderer::runPhase(Phase& phase, int firstSample, int count)
 {
-    if (settings_.algorithm != Algorithm::EyeLight) shade_.setArg(9, uint32_t(iteration_));
+    phase.generate.setArg(6, uint32_t(iteration_));
+    phase.shade.setArg(3, uint32_t(iteration_));
     // Every slot starts free.
-    std::vector<int> counters(COUNTER_INDEX(COUNTER_NONFINITE), 0);
+    std::vector<int> counters(COUNTER_INDEX(COUNTER_LIGHT_VERTICES), 0);
     counters[COUNTER_INDEX(QUEUE_FREE(0))] = paths_.capacity;
     device_.queue.enqueueWriteBuffer(paths_.counters, CL_TRUE, 0, counters.size() * sizeof(int), counters.data());
     device_.queue.enqueueCopyBuffer(paths_.slotIndices, paths_.queueItems, 0,
                                     size_t(QUEUE_FREE(0)) * paths_.capacity * sizeof(int),
                                     size_t(paths_.capacity) * sizeof(int));
-    // The host reads the counters once per round, to size the next round's
-    // launches (OpenCL 1.2 has no indirect dispatch) and to see when the
-    // iteration is over. Launching over the full capacity instead, with
-    // kernels returning past their queue's size, cost more on PoCL than the
-    // ~70 µs synchronisation: most rounds have few live paths.
     size_t rays = 0, free = size_t(paths_.capacity), issued = 0;
     std::vector<int> now(COUNTER_INDEX(COUNTER_COUNT));
     for (int parity = 0;; parity = 1 - parity) {
-        size_t generated = std::min(free, size_t(pixels_) - issued);
+        size_t generated = std::min(free, size_t(count) - issued);
         if (rays + generated == 0) break;
-        round(parity, generated, issued, rays);
+        round(phase, parity, generated, size_t(firstSample) + issued, rays);
         issued += generated;
         rays_ += rays + generated;
         device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE, 0, now.size() * sizeof(int), now.data());
@@ -166,7 +272,51 @@ void Renderer::iterate()
         free = size_t(now[COUNTER_INDEX(QUEUE_FREE(1 - parity))]);
         rays_ += size_t(now[COUNTER_INDEX(QUEUE_SHADOW)]);
     }
-    accumulate_.setArg(2, uint32_t(iteration_));
+}
+
+void Renderer::iterate()
+{
+    if (!bidirectional_) {
+        runPhase(cameraPhase_, 0, pixels_);
+    } else {
+        bool bpt = settings_.algorithm == Algorithm::Bidirectional;
+        // Light paths go in batches whose vertices fit on the device; each
+        // batch's camera paths connect to them. Light tracing splats onto any
+        // pixel, so a batch whose splats are done (`splatted`) never splats
+        // again when it has to be retraced with a larger vertex buffer.
+        int splatted = 0;
+        for (int first = 0; first < pixels_;) {
+            int count = std::min(batch_, pixels_ - first);
+            if (first < splatted) count = std::min(count, splatted - first);
+            bool connectToCamera = first >= splatted;
+            for (;;) {
+                lightPhase_.generate.setArg(23, first);
+                lightPhase_.shade.setArg(14, int(connectToCamera));
+                lightPhase_.shade.setArg(35, first);
+                int zero = 0;
+                device_.queue.enqueueWriteBuffer(paths_.counters, CL_TRUE,
+                                                 size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int),
+                                                 sizeof zero, &zero);
+                runPhase(lightPhase_, first, count);
+                if (connectToCamera) splatted = first + count;
+                size_t wanted = bpt ? size_t(lightVertexCount()) : 0;
+                if (wanted <= vertexCapacity_) break;
+                connectToCamera = false;
+                if (wanted <= vertexBudget_) {
+                    ensureLightVertexCapacity(wanted + wanted / 4);
+                    continue;
+                }
+                if (count == 1)
+                    throw Error("the light vertices of a single light path do not fit on " + device_.info.name);
+                count /= 2;
+                batch_ = count;
+            }
+            if (bpt) cameraPhase_.connectVertices.setArg(19, first);
+            runPhase(cameraPhase_, first, count);
+            first += count;
+        }
+    }
+    accumulate_.setArg(3, uint32_t(iteration_));
     launch(accumulate_, size_t(pixels_));
     device_.queue.finish();
     if (profiling_) collectProfile();

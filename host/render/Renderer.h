@@ -1,6 +1,7 @@
 // The host queue manager: owns the device program, the scene on the device
-// and the path state, and runs iterations of the chosen algorithm as rounds
-// of kernel launches over the work queues.
+// and the path state, and runs iterations of the chosen algorithm as phases
+// (light paths, camera paths) of rounds of kernel launches over the work
+// queues.
 #pragma once
 
 #include "../cl/Program.h"
@@ -29,7 +30,8 @@ public:
     // the algorithm, and uploads the scene. Throws wv::Error on any failure.
     Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings);
 
-    // Runs one iteration (one sample per pixel) to completion.
+    // Runs one iteration (one sample per pixel; one light path per pixel for
+    // the bidirectional algorithms) to completion.
     void iterate();
 
     int iterations() const { return iteration_; }
@@ -39,7 +41,10 @@ public:
     const ProgramBuild& programBuild() const { return build_; }
     const LightTable& lights() const { return lights_; }
     int wavefront() const { return paths_.capacity; }
-    size_t deviceBytes() const { return sceneBuffers_.bytes + paths_.bytes + size_t(pixels_) * 32; }
+    size_t deviceBytes() const;
+    // Light paths per batch (bidirectional): all pixels unless the light
+    // vertices of that many paths do not fit on the device.
+    int lightPathBatch() const { return batch_; }
 
     // Device time per kernel so far, in seconds (needs a profiling queue,
     // see DeviceContext; empty otherwise).
@@ -49,24 +54,41 @@ public:
     static std::vector<std::string> kernelFiles(Algorithm algorithm);
 
 private:
+    // The kernels of one kind of sub-path. Their leading arguments follow one
+    // convention per role (kernels/*.cl), which the rounds set.
+    struct Phase {
+        cl::Kernel generate, extend, connectVertices, shade, escaped, connect;
+        bool hasConnectVertices = false, hasConnect = false;
+    };
+
     void launch(cl::Kernel& kernel, size_t items);
+    void runPhase(Phase& phase, int firstSample, int count);
+    void round(Phase& phase, int parity, size_t generated, size_t issued, size_t rays);
+    int lightVertexCount();
+    void ensureLightVertexCapacity(size_t vertices);
     void collectProfile();
-    void round(int parity, size_t generated, size_t issued, size_t rays);
 
     DeviceContext& device_;
     RenderSettings settings_;
+    bool bidirectional_ = false;
     LightTable lights_;
     SceneBuffers sceneBuffers_;
     PathState paths_;
     ProgramBuild build_;
     cl::Buffer camera_;
-    cl::Buffer pixelRadiance_; // float4 per pixel: this iteration's sample
+    cl::Buffer pixelRadiance_; // float4 per pixel: this iteration's camera sample
+    cl::Buffer splatRadiance_; // float4 per pixel: this iteration's light-tracing splats
     cl::Buffer framebuffer_;   // float4 per pixel: running mean
+    cl::Buffer lightVertices_; // LightVertex[vertexCapacity_]
+    cl::Buffer lightPathHead_; // int per light path of a batch
+    size_t vertexCapacity_ = 0, vertexBudget_ = 0;
+    int batch_ = 0;
     int pixels_ = 0;
     int iteration_ = 0;
     uint64_t rays_ = 0;
     size_t localSize_ = 64;
-    cl::Kernel generate_, extend_, shade_, escaped_, connect_, accumulate_;
+    Phase cameraPhase_, lightPhase_;
+    cl::Kernel accumulate_;
     bool profiling_ = false;
     std::vector<std::pair<std::string, cl::Event>> pending_;
     std::map<std::string, double> kernelSeconds_;

@@ -1,0 +1,91 @@
+/* connect_vertices (`-a bpt`): vertex connection. Every camera hit with a
+ * non-delta BSDF connects to each stored vertex of the light sub-path with
+ * its own index (one light path per camera path), MIS-weighted against all
+ * other techniques (Georgiev's report, eqs. 40-41 and 37), and adds what is
+ * visible to its pixel. It runs before `shade`, which then moves the path on.
+ * One work-item walks its whole light path and traces each shadow ray
+ * itself: the number of connections varies per path. */
+#include "bsdf.h"
+#include "bvh_traversal.h"
+#include "lights.h"
+#include "mis.h"
+#include "path_state.h"
+#include "queues.h"
+#include "surface.h"
+
+__kernel void connect_vertices(int capacity, __global const int* queueItems, __global const int* queueCounters,
+                               __global const BvhNode* nodes, __global const float4* triVertices,
+                               __global const float4* triNormals, __global const int* triMaterials,
+                               __global const Material* materials, int maxPathLength, float vmWeightFactor,
+                               __global const float4* rayDirections, __global const float* hitT,
+                               __global const int* hitTriangle, __global const float2* hitBary,
+                               __global const int* pathPixel, __global const int* pathDepth,
+                               __global const float4* pathThroughput, __global const float4* pathMis,
+                               __global const LightVertex* lightVertices, int firstLightPath,
+                               __global const int* lightPathHead, __global float4* pixelRadiance)
+{
+    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
+    if (slot < 0)
+        return;
+    int depth = pathDepth[slot];
+    if (depth + 2 > maxPathLength) /* even the first light vertex would make the path too long */
+        return;
+    int tri = hitTriangle[slot];
+    float3 wo = -rayDirections[slot].xyz;
+    SurfaceHit hit = surface_hit(triVertices, triNormals, tri, hitBary[slot], wo);
+    float3 woL = to_local(&hit.frame, wo);
+    Bsdf bsdf = make_bsdf(&materials[triMaterials[tri]], woL, hit.frontSide);
+    if (!bsdf_has_nondelta(&bsdf))
+        return;
+    PathMis mis = load_mis(pathMis, slot);
+    mis_at_hit(&mis, hitT[slot], fabs(woL.z), true);
+    float contCamera = continuation_probability(&bsdf);
+    float3 beta = pathThroughput[slot].xyz;
+    int pixel = pathPixel[slot];
+
+    float3 L = (float3)(0.0f);
+    for (int v = lightPathHead[pixel - firstLightPath]; v >= 0; v = lightVertices[v].prev) {
+        __global const LightVertex* lv = &lightVertices[v];
+        if (lv->pathLength + 1 + depth > maxPathLength)
+            continue; /* vertices go from the deepest back: shallower ones may still fit */
+        float3 toLight = vload3(0, lv->toLight);
+        SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, (float2)(lv->b1, lv->b2), toLight);
+        float3 d = lightHit.p - hit.p;
+        float dist2 = dot(d, d);
+        if (!(dist2 > 0.0f))
+            continue;
+        float dist = sqrt(dist2);
+        d /= dist;
+        float3 dL = to_local(&hit.frame, d);
+        float3 backL = to_local(&lightHit.frame, -d);
+        if (!sides_agree(&hit, d, dL) || !sides_agree(&lightHit, -d, backL))
+            continue;
+        float cameraFwd, cameraRev, lightFwd, lightRev;
+        float3 fCamera = bsdf_eval(&bsdf, woL, dL, false, &cameraFwd, &cameraRev);
+        float3 toLightL = to_local(&lightHit.frame, toLight);
+        Bsdf lightBsdf = make_bsdf(&materials[triMaterials[lv->triangle]], toLightL, lightHit.frontSide);
+        float3 fLight = bsdf_eval(&lightBsdf, toLightL, backL, true, &lightFwd, &lightRev) *
+                        adjoint_shading_correction(&lightHit, toLight, -d);
+        if (!(max_component(fCamera) > 0.0f && max_component(fLight) > 0.0f))
+            continue;
+        float contLight = continuation_probability(&lightBsdf);
+        cameraFwd *= contCamera;
+        cameraRev *= contCamera;
+        lightFwd *= contLight;
+        lightRev *= contLight;
+        float cosCamera = fabs(dL.z), cosLight = fabs(backL.z);
+        float geometry = cosCamera * cosLight / dist2;
+        /* The other techniques' pdfs relative to this one (eqs. 40, 41). */
+        float wLight = cameraFwd * cosLight / dist2 * (vmWeightFactor + lv->dVCM + lv->dVC * lightRev);
+        float wCamera = lightFwd * cosCamera / dist2 * (vmWeightFactor + mis.dVCM + mis.dVC * cameraRev);
+        float w = 1.0f / (wLight + 1.0f + wCamera);
+        float3 c = (w * geometry) * beta * fCamera * fLight * vload3(0, lv->throughput);
+        Hit occluder;
+        if (!trace_ray(nodes, triVertices,
+                       ray_between(hit.p, hit.pError, hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF), true,
+                       &occluder))
+            L += c;
+    }
+    if (any(L != 0.0f))
+        pixelRadiance[pixel] += (float4)(L, 0.0f);
+}

@@ -1,0 +1,150 @@
+/* shade_bidirectional: camera sub-paths of `-a lt` and `-a bpt` (SmallVCM's
+ * camera pass, vertexcm.hxx). At every hit, in order,
+ *   1. convert the MIS quantities of the last segment to area measure;
+ *   2. emission seen here (front faces only), weighted against every other
+ *      technique that samples this path (eqs. 42-43);
+ *   lt ends here: its camera paths only see what is directly visible;
+ *   3. next-event estimation with its weight (eqs. 44-45), queued for `connect`;
+ *      (vertex connections were added by `connect_vertices` before this)
+ *   4. sample the BSDF to continue, with Russian roulette by the material's
+ *      continuation probability (part of every pdf in the weights). */
+#include "bsdf.h"
+#include "lights.h"
+#include "mis.h"
+#include "path_state.h"
+#include "queues.h"
+#include "rng.h"
+#include "surface.h"
+
+typedef struct CameraHitResult {
+    bool alive, shadowRay;
+} CameraHitResult;
+
+inline CameraHitResult shade_camera_hit(
+    int slot, uint iteration, __global const float4* triVertices, __global const float4* triNormals,
+    __global const int* triMaterials, __global const Material* materials, __global const Light* lights,
+    __global const float* lightCdf, __global const int* triangleLight, __constant const SceneInfo* scene,
+    uint seed, int maxPathLength, float vmWeightFactor, float vcWeightFactor, __global float4* rayOrigins,
+    __global float4* rayDirections, __global const float* hitT, __global const int* hitTriangle,
+    __global const float2* hitBary, __global const int* pathPixel, __global int* pathDepth,
+    __global float4* pathThroughput, __global float4* pathMis, __global float4* shadowOrigins,
+    __global float4* shadowDirections, __global float4* shadowContribution, __global float4* pixelRadiance)
+{
+    CameraHitResult r = {false, false};
+    int tri = hitTriangle[slot];
+    float3 wo = -rayDirections[slot].xyz;
+    SurfaceHit hit = surface_hit(triVertices, triNormals, tri, hitBary[slot], wo);
+    float3 woL = to_local(&hit.frame, wo);
+    int depth = pathDepth[slot];
+    int pixel = pathPixel[slot];
+    float3 beta = pathThroughput[slot].xyz;
+    PathMis mis = load_mis(pathMis, slot);
+    mis_at_hit(&mis, hitT[slot], fabs(woL.z), true);
+    float3 L = (float3)(0.0f);
+
+#ifdef HAS_EMISSIVE_TRIANGLES
+    int light = triangleLight[tri];
+    if (light >= 0 && hit.frontSide) {
+        float w = 1.0f; /* seen directly: no other technique */
+        if (depth > 1) {
+            float directPdfA, emissionPdfW;
+            triangle_hit_pdfs(lights[light].pmf, lights[light].area, dot(wo, hit.ngF), &directPdfA, &emissionPdfW);
+            w = 1.0f / (1.0f + directPdfA * mis.dVCM + emissionPdfW * mis.dVC);
+        }
+        L += w * beta * vload3(0, lights[light].emission);
+    }
+#endif
+
+#ifndef LIGHT_TRACING
+    Bsdf bsdf = make_bsdf(&materials[triMaterials[tri]], woL, hit.frontSide);
+    bool alive = depth < maxPathLength && !bsdf_is_black(&bsdf);
+    float cont = continuation_probability(&bsdf);
+
+    if (alive && scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
+        float4 u = rng_uniform4(seed, iteration, (uint)pixel, (uint)depth, 0u);
+        LightSample ls;
+        if (sample_light(lights, lightCdf, triVertices, scene, hit.p, u.xyz, &ls)) {
+            float3 wiL = to_local(&hit.frame, ls.direction);
+            if (sides_agree(&hit, ls.direction, wiL)) {
+                float pdfFwd, pdfRev;
+                float3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfFwd, &pdfRev);
+                if (max_component(f) > 0.0f) {
+                    float cosToLight = fabs(wiL.z);
+                    float bsdfDirPdfW = ls.delta ? 0.0f : pdfFwd * cont;
+                    float bsdfRevPdfW = pdfRev * cont;
+                    float wLight = bsdfDirPdfW / ls.directPdfW;
+                    float wCamera = ls.emissionPdfW * cosToLight / (ls.directPdfW * ls.cosAtLight) *
+                                    (vmWeightFactor + mis.dVCM + mis.dVC * bsdfRevPdfW);
+                    float w = 1.0f / (wLight + 1.0f + wCamera);
+                    float3 contribution = beta * f * ls.radiance * (w * cosToLight / ls.pdf);
+                    store_ray(shadowOrigins, shadowDirections, slot,
+                              shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));
+                    shadowContribution[slot] = (float4)(contribution, 0.0f);
+                    r.shadowRay = true;
+                }
+            }
+        }
+    }
+
+    if (alive) {
+        float4 u = rng_uniform4(seed, iteration, (uint)pixel, (uint)depth, 1u);
+        BsdfSample bs;
+        alive = bsdf_sample(&bsdf, woL, u.xyz, false, &bs);
+        float3 wi = to_world(&hit.frame, bs.wi);
+        alive = alive && sides_agree(&hit, wi, bs.wi) && u.w < cont;
+        if (alive) {
+            float pdfW = bs.pdf * cont, revPdfW = pdfW;
+            if (!bs.delta) {
+                float fwd, rev;
+                bsdf_eval(&bsdf, woL, bs.wi, false, &fwd, &rev);
+                revPdfW = rev * cont;
+            }
+            mis_after_scatter(&mis, bs.delta, fabs(bs.wi.z), pdfW, revPdfW, vmWeightFactor, vcWeightFactor);
+            beta *= bs.weight / cont;
+            if (!all(isfinite(beta))) {
+                L += (float3)(NAN); /* the sample is dropped and counted by accumulate */
+                alive = false;
+            }
+            alive = alive && max_component(beta) > 0.0f;
+        }
+        if (alive) {
+            store_ray(rayOrigins, rayDirections, slot, spawn_ray(hit.p, hit.pError, hit.ngF, wi));
+            pathThroughput[slot] = (float4)(beta, 0.0f);
+            store_mis(pathMis, slot, mis);
+            pathDepth[slot] = depth + 1;
+        }
+    }
+    r.alive = alive;
+#endif
+    if (any(L != 0.0f))
+        pixelRadiance[pixel] += (float4)(L, 0.0f);
+    return r;
+}
+
+__kernel void shade_bidirectional(int capacity, int nextRayQueue, int freeQueue, uint iteration,
+                                  __global int* queueItems, __global int* queueCounters,
+                                  __global const float4* triVertices, __global const float4* triNormals,
+                                  __global const int* triMaterials, __global const Material* materials,
+                                  __global const Light* lights, __global const float* lightCdf,
+                                  __global const int* triangleLight, __constant const SceneInfo* scene, uint seed,
+                                  int maxPathLength, float vmWeightFactor, float vcWeightFactor,
+                                  __global float4* rayOrigins, __global float4* rayDirections,
+                                  __global const float* hitT, __global const int* hitTriangle,
+                                  __global const float2* hitBary, __global const int* pathPixel,
+                                  __global int* pathDepth, __global float4* pathThroughput,
+                                  __global float4* pathMis, __global float4* shadowOrigins,
+                                  __global float4* shadowDirections, __global float4* shadowContribution,
+                                  __global float4* pixelRadiance)
+{
+    __local int scratch[2];
+    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
+    CameraHitResult r = {false, false};
+    if (slot >= 0)
+        r = shade_camera_hit(slot, iteration, triVertices, triNormals, triMaterials, materials, lights, lightCdf,
+                             triangleLight, scene, seed, maxPathLength, vmWeightFactor, vcWeightFactor, rayOrigins,
+                             rayDirections, hitT, hitTriangle, hitBary, pathPixel, pathDepth, pathThroughput,
+                             pathMis, shadowOrigins, shadowDirections, shadowContribution, pixelRadiance);
+    queue_push(queueItems, queueCounters, capacity, QUEUE_SHADOW, r.shadowRay, slot, scratch);
+    queue_push(queueItems, queueCounters, capacity, nextRayQueue, r.alive, slot, scratch);
+    queue_push(queueItems, queueCounters, capacity, freeQueue, slot >= 0 && !r.alive, slot, scratch);
+}
