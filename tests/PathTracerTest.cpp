@@ -2,6 +2,7 @@
 // white furnaces, agreement between OpenCL implementations, and the error's
 // O(N^-1/2) convergence.
 #include "TestDevices.h"
+#include "TestRendering.h"
 #include "bvh/Bvh.h"
 #include "render/Renderer.h"
 #include "scene/GltfLoader.h"
@@ -14,63 +15,14 @@
 namespace wv {
 namespace {
 
-// A UV sphere; `inward` winds the triangles so the front face (and the
-// geometric normal) looks at the centre.
-void addSphere(Scene& s, Vec3 centre, float radius, bool inward, int material, int rings = 24, int segments = 48)
-{
-    auto point = [&](int ring, int seg) {
-        float theta = float(M_PI) * float(ring) / float(rings), phi = 2.0f * float(M_PI) * float(seg) / float(segments);
-        return centre + Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)) * radius;
-    };
-    auto triangle = [&](Vec3 a, Vec3 b, Vec3 c) {
-        if (inward) std::swap(b, c);
-        for (Vec3 v : {a, b, c}) s.vertices.push_back(v);
-        s.triangleMaterial.push_back(material);
-    };
-    for (int r = 0; r < rings; ++r)
-        for (int g = 0; g < segments; ++g) {
-            Vec3 p00 = point(r, g), p01 = point(r, g + 1), p10 = point(r + 1, g), p11 = point(r + 1, g + 1);
-            // Outward winding: counter-clockwise seen from outside.
-            if (r > 0) triangle(p00, p01, p10);
-            if (r < rings - 1) triangle(p01, p11, p10);
-        }
-}
-
-Material lambert(float albedo, float emission = 0)
-{
-    Material m{};
-    for (int c = 0; c < 3; ++c) {
-        m.baseColor[c] = albedo;
-        m.emission[c] = emission;
-        m.specularColor[c] = 1;
-    }
-    m.roughness = 1;
-    m.ior = 1.5f;
-    m.thinWalled = 1;
-    m.lobes = LOBE_DIFFUSE;
-    return m;
-}
-
-struct Render {
-    Image image;
-    uint64_t nonFinite = 0;
-};
+using test::addSphere;
+using test::lambert;
+using test::Render;
 
 Render renderPt(const DeviceInfo& info, const Scene& scene, int width, int height, int iterations, uint32_t seed,
                 int maxPathLength = 1 << 20)
 {
-    DeviceContext device(info);
-    Bvh bvh = buildBvh(scene.vertices);
-    RenderSettings s;
-    s.algorithm = Algorithm::PathTracing;
-    s.width = width;
-    s.height = height;
-    s.seed = seed;
-    s.maxPathLength = maxPathLength;
-    s.wavefront = 1024; // several rounds of slot regeneration per iteration
-    Renderer renderer(device, scene, bvh, s);
-    for (int i = 0; i < iterations; ++i) renderer.iterate();
-    return {renderer.image(), renderer.nonFiniteCount()};
+    return test::render(info, scene, Algorithm::PathTracing, width, height, iterations, seed, maxPathLength);
 }
 
 // Mean over pixels and channels, and its standard error from the spread of
@@ -136,12 +88,7 @@ TEST(PathTracer, FurnaceWithSmoothGlassInside)
 {
     // Exact Fresnel reflection plus refraction (with the 1/η² radiance
     // scaling on the way in and η² on the way out) conserves energy.
-    Material glass{};
-    for (int c = 0; c < 3; ++c) { glass.baseColor[c] = 1; glass.specularColor[c] = 1; }
-    glass.specular = 1;
-    glass.transmission = 1;
-    glass.ior = 1.5f;
-    glass.lobes = LOBE_DELTA_REFLECTION | LOBE_DELTA_TRANSMISSION;
+    Material glass = test::smoothGlass();
     expectFurnace(0.6f, &glass, "smooth glass");
     expectFurnace(0.6f, &glass, "inside smooth glass", true);
 }
@@ -177,60 +124,24 @@ TEST(PathTracer, EveryBundledSceneRendersFinite)
     }
 }
 
-double imageMean(const Image& img)
-{
-    return std::accumulate(img.rgb.begin(), img.rgb.end(), 0.0) / double(img.rgb.size());
-}
-
-// PoCL and rusticl render the Cornell box alike. Each device renders the same
-// three seeds. The seed-to-seed spread of 8×8-pixel tile means gives their
-// standard error; the devices' tile means (over the seeds) must agree within
-// 5 of them. With the same seeds both devices draw the same samples, so
-// their images must also be much closer to each other than two seeds are.
+// PoCL and rusticl render the Cornell box alike: per 8×8-pixel block, the
+// mean over three seeds agrees within 5 standard errors (estimated from the
+// seed-to-seed spread). With the same seeds both devices draw the same
+// samples, so their images must also be much closer to each other than two
+// seeds are.
 TEST(PathTracer, SameImageOnEveryDevice)
 {
     std::vector<DeviceInfo> devices = test::devicesUnderTest();
     if (devices.size() < 2) GTEST_SKIP() << "only one OpenCL device; install mesa-opencl-icd for rusticl";
     Scene scene = loadGltf(test::cornellBoxPath());
-    const int w = 48, h = 48, iterations = 16, tile = 8;
-    const uint32_t seeds[] = {1, 2, 3};
-    std::vector<std::vector<Image>> images(devices.size());
-    for (size_t d = 0; d < devices.size(); ++d)
-        for (uint32_t seed : seeds) images[d].push_back(renderPt(devices[d], scene, w, h, iterations, seed, 10).image);
-
-    auto tileMean = [&](const Image& img, int tx, int ty) {
-        double sum = 0;
-        for (int y = ty * tile; y < (ty + 1) * tile; ++y)
-            for (int x = tx * tile; x < (tx + 1) * tile; ++x)
-                for (int c = 0; c < 3; ++c) sum += img.rgb[3 * (size_t(y) * w + x) + c];
-        return sum / (tile * tile * 3);
-    };
-    const size_t S = std::size(seeds);
+    std::vector<Image> first = test::renderSeeds(devices[0], scene, Algorithm::PathTracing, 48, 48, 16, 3);
     for (size_t d = 1; d < devices.size(); ++d) {
         SCOPED_TRACE(devices[0].name + " vs " + devices[d].name);
-        int bad = 0;
-        for (int ty = 0; ty < h / tile; ++ty)
-            for (int tx = 0; tx < w / tile; ++tx) {
-                double m0 = 0, m1 = 0, var = 0;
-                std::vector<double> a, b;
-                for (size_t s = 0; s < S; ++s) {
-                    a.push_back(tileMean(images[0][s], tx, ty));
-                    b.push_back(tileMean(images[d][s], tx, ty));
-                    m0 += a.back() / S;
-                    m1 += b.back() / S;
-                }
-                for (size_t s = 0; s < S; ++s) var += ((a[s] - m0) * (a[s] - m0) + (b[s] - m1) * (b[s] - m1)) / (2 * (S - 1));
-                double se = std::sqrt(2 * var / S) + 1e-6;
-                if (std::fabs(m0 - m1) > 5 * se) {
-                    ++bad;
-                    ADD_FAILURE() << "tile " << tx << "," << ty << ": " << m0 << " vs " << m1 << " (se " << se << ")";
-                }
-            }
-        EXPECT_EQ(bad, 0);
-        double sameSeed = compareImages(images[d][0], images[0][0]).relMse;
-        double otherSeed = compareImages(images[0][1], images[0][0]).relMse;
+        std::vector<Image> other = test::renderSeeds(devices[d], scene, Algorithm::PathTracing, 48, 48, 16, 3);
+        EXPECT_EQ(test::tilesDisagreeing(first, other, 8, 5.0), 0);
+        double sameSeed = compareImages(other[0], first[0]).relMse;
+        double otherSeed = compareImages(first[1], first[0]).relMse;
         EXPECT_LT(sameSeed, 0.25 * otherSeed) << "same-seed images differ about as much as independent ones";
-        EXPECT_NEAR(imageMean(images[d][0]) / imageMean(images[0][0]), 1.0, 0.01);
     }
 }
 

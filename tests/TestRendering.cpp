@@ -1,0 +1,133 @@
+#include "TestRendering.h"
+
+#include "bvh/Bvh.h"
+#include "render/Renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace wv::test {
+
+void addSphere(Scene& s, Vec3 centre, float radius, bool inward, int material, int rings, int segments)
+{
+    auto point = [&](int ring, int seg) {
+        float theta = float(M_PI) * float(ring) / float(rings), phi = 2.0f * float(M_PI) * float(seg) / float(segments);
+        return centre + Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)) * radius;
+    };
+    auto triangle = [&](Vec3 a, Vec3 b, Vec3 c) {
+        if (inward) std::swap(b, c);
+        for (Vec3 v : {a, b, c}) s.vertices.push_back(v);
+        s.triangleMaterial.push_back(material);
+    };
+    for (int r = 0; r < rings; ++r)
+        for (int g = 0; g < segments; ++g) {
+            Vec3 p00 = point(r, g), p01 = point(r, g + 1), p10 = point(r + 1, g), p11 = point(r + 1, g + 1);
+            // Outward winding: counter-clockwise seen from outside.
+            if (r > 0) triangle(p00, p01, p10);
+            if (r < rings - 1) triangle(p01, p11, p10);
+        }
+}
+
+Material lambert(float albedo, float emission)
+{
+    Material m{};
+    for (int c = 0; c < 3; ++c) {
+        m.baseColor[c] = albedo;
+        m.emission[c] = emission;
+        m.specularColor[c] = 1;
+    }
+    m.roughness = 1;
+    m.ior = 1.5f;
+    m.thinWalled = 1;
+    m.lobes = LOBE_DIFFUSE;
+    return m;
+}
+
+Material smoothGlass(float ior)
+{
+    Material glass{};
+    for (int c = 0; c < 3; ++c) {
+        glass.baseColor[c] = 1;
+        glass.specularColor[c] = 1;
+    }
+    glass.specular = 1;
+    glass.transmission = 1;
+    glass.ior = ior;
+    glass.lobes = LOBE_DELTA_REFLECTION | LOBE_DELTA_TRANSMISSION;
+    return glass;
+}
+
+Render render(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, int width, int height, int iterations,
+              uint32_t seed, int maxPathLength)
+{
+    DeviceContext device(info);
+    Bvh bvh = buildBvh(scene.vertices);
+    RenderSettings s;
+    s.algorithm = algorithm;
+    s.width = width;
+    s.height = height;
+    s.seed = seed;
+    s.maxPathLength = maxPathLength;
+    s.wavefront = 1024;
+    Renderer renderer(device, scene, bvh, s);
+    for (int i = 0; i < iterations; ++i) renderer.iterate();
+    return {renderer.image(), renderer.nonFiniteCount()};
+}
+
+std::vector<Image> renderSeeds(const DeviceInfo& device, const Scene& scene, Algorithm algorithm, int width,
+                               int height, int iterations, int seeds, int maxPathLength)
+{
+    std::vector<Image> out;
+    for (int s = 1; s <= seeds; ++s)
+        out.push_back(render(device, scene, algorithm, width, height, iterations, uint32_t(s), maxPathLength).image);
+    return out;
+}
+
+int tilesDisagreeing(const std::vector<Image>& a, const std::vector<Image>& b, int tile, double k,
+                     const std::vector<bool>& mask, int* compared)
+{
+    const int w = a[0].width, h = a[0].height;
+    int bad = 0, count = 0;
+    // Mean over the block's unmasked pixels and channels of one image.
+    auto blockMean = [&](const Image& img, int bx, int by, int* used) {
+        double sum = 0;
+        *used = 0;
+        for (int y = by * tile; y < std::min(h, (by + 1) * tile); ++y)
+            for (int x = bx * tile; x < std::min(w, (bx + 1) * tile); ++x) {
+                size_t p = size_t(y) * w + x;
+                if (!mask.empty() && !mask[p]) continue;
+                ++*used;
+                for (int c = 0; c < 3; ++c) sum += img.rgb[3 * p + c];
+            }
+        return *used ? sum / (3.0 * *used) : 0.0;
+    };
+    // Mean over seeds and its squared standard error.
+    auto stats = [&](const std::vector<Image>& images, int bx, int by, int* used, double* se2) {
+        std::vector<double> m;
+        for (const Image& img : images) m.push_back(blockMean(img, bx, by, used));
+        double mean = 0, var = 0;
+        for (double v : m) mean += v / double(m.size());
+        for (double v : m) var += (v - mean) * (v - mean) / double(m.size() - 1);
+        *se2 = var / double(m.size());
+        return mean;
+    };
+    for (int by = 0; by * tile < h; ++by)
+        for (int bx = 0; bx * tile < w; ++bx) {
+            int used = 0;
+            double seA, seB;
+            double ma = stats(a, bx, by, &used, &seA), mb = stats(b, bx, by, &used, &seB);
+            if (used * 2 < tile * tile) continue;
+            ++count;
+            double se = std::sqrt(seA + seB) + 1e-6 * (std::fabs(ma) + std::fabs(mb)) + 1e-9;
+            if (std::fabs(ma - mb) > k * se) {
+                ++bad;
+                ADD_FAILURE() << "block " << bx << "," << by << ": " << ma << " vs " << mb << " (standard error " << se
+                              << ", " << std::fabs(ma - mb) / se << " of them)";
+            }
+        }
+    if (compared) *compared = count;
+    return bad;
+}
+
+} // namespace wv::test

@@ -1,0 +1,46 @@
+// Helpers for the tests that render: scenes built in code, rendering a few
+// iterations on a device, and comparing images tile by tile statistically.
+#pragma once
+
+#include "cl/Devices.h"
+#include "image/Image.h"
+#include "render/Algorithm.h"
+#include "scene/Scene.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace wv::test {
+
+// A UV sphere; `inward` winds the triangles so the front face (and the
+// geometric normal) looks at the centre.
+void addSphere(Scene& s, Vec3 centre, float radius, bool inward, int material, int rings = 24, int segments = 48);
+
+Material lambert(float albedo, float emission = 0);
+Material smoothGlass(float ior = 1.5f);
+
+struct Render {
+    Image image;
+    uint64_t nonFinite = 0;
+};
+
+// `iterations` iterations of `algorithm` at width × height with a small
+// wavefront (several rounds of slot regeneration per iteration).
+Render render(const DeviceInfo& device, const Scene& scene, Algorithm algorithm, int width, int height,
+              int iterations, uint32_t seed, int maxPathLength = 10);
+
+// Renders of one configuration with seeds 1..seeds.
+std::vector<Image> renderSeeds(const DeviceInfo& device, const Scene& scene, Algorithm algorithm, int width,
+                               int height, int iterations, int seeds, int maxPathLength = 10);
+
+// Compares two estimators of the same image, each given as renders with
+// independent seeds: per tile × tile pixel block, the difference of the mean
+// over seeds must stay within `k` standard errors, estimated from the
+// seed-to-seed spread of each side. `mask` (per pixel, optional) excludes
+// pixels; blocks with fewer than half their pixels left are skipped.
+// Returns the number of blocks that disagree (each also reported as a
+// test failure) and sets *compared to the number of blocks compared.
+int tilesDisagreeing(const std::vector<Image>& a, const std::vector<Image>& b, int tile, double k,
+                     const std::vector<bool>& mask = {}, int* compared = nullptr);
+
+} // namespace wv::test
