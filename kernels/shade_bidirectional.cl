@@ -16,8 +16,10 @@
 #include "rng.h"
 #include "surface.h"
 
+/* int, not bool, flags: rusticl (Mesa 22.3) loses bool members of a struct
+ * returned from a function. */
 typedef struct CameraHitResult {
-    bool alive, shadowRay;
+    int alive, shadowRay;
 } CameraHitResult;
 
 inline CameraHitResult shade_camera_hit(
@@ -30,7 +32,7 @@ inline CameraHitResult shade_camera_hit(
     __global float4* pathThroughput, __global float4* pathMis, __global float4* shadowOrigins,
     __global float4* shadowDirections, __global float4* shadowContribution, __global float4* pixelRadiance)
 {
-    CameraHitResult r = {false, false};
+    CameraHitResult r = {0, 0};
     int tri = hitTriangle[slot];
     float3 wo = -rayDirections[slot].xyz;
     SurfaceHit hit = surface_hit(triVertices, triNormals, tri, hitBary[slot], wo);
@@ -80,7 +82,7 @@ inline CameraHitResult shade_camera_hit(
                     store_ray(shadowOrigins, shadowDirections, slot,
                               shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));
                     shadowContribution[slot] = (float4)(contribution, 0.0f);
-                    r.shadowRay = true;
+                    r.shadowRay = 1;
                 }
             }
         }
@@ -114,7 +116,7 @@ inline CameraHitResult shade_camera_hit(
             pathDepth[slot] = depth + 1;
         }
     }
-    r.alive = alive;
+    r.alive = alive ? 1 : 0;
 #endif
     if (any(L != 0.0f))
         pixelRadiance[pixel] += (float4)(L, 0.0f);
@@ -138,7 +140,7 @@ __kernel void shade_bidirectional(int capacity, int nextRayQueue, int freeQueue,
 {
     __local int scratch[2];
     int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
-    CameraHitResult r = {false, false};
+    CameraHitResult r = {0, 0};
     if (slot >= 0)
         r = shade_camera_hit(slot, iteration, triVertices, triNormals, triMaterials, materials, lights, lightCdf,
                              triangleLight, scene, seed, maxPathLength, vmWeightFactor, vcWeightFactor, rayOrigins,

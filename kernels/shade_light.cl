@@ -21,8 +21,10 @@
 #include "rng.h"
 #include "surface.h"
 
+/* int, not bool, flags: rusticl (Mesa 22.3) loses bool members of a struct
+ * returned from a function. */
 typedef struct LightHitResult {
-    bool alive, shadowRay, storeVertex;
+    int alive, shadowRay, storeVertex;
     LightVertex vertex;
 } LightHitResult;
 
@@ -38,7 +40,7 @@ inline LightHitResult shade_light_hit(
     __global int* queueCounters)
 {
     LightHitResult r;
-    r.alive = r.shadowRay = r.storeVertex = false;
+    r.alive = r.shadowRay = r.storeVertex = 0;
     float3 beta = pathThroughput[slot].xyz;
     if (!(max_component(beta) > 0.0f))
         return r; /* a failed emission sample */
@@ -58,7 +60,7 @@ inline LightHitResult shade_light_hit(
 
     if (bsdf_has_nondelta(&bsdf)) {
         if (storeVertices) {
-            r.storeVertex = true;
+            r.storeVertex = 1;
             LightVertex* v = &r.vertex;
             vstore3(hit.p, 0, v->position);
             vstore3(beta, 0, v->throughput);
@@ -95,7 +97,7 @@ inline LightHitResult shade_light_hit(
                               ray_between(hit.p, hit.pError, hit.ngF, cameraPosition, (float3)(0.0f), -toCamera));
                     shadowContribution[slot] = (float4)(contribution, 0.0f);
                     shadowPixel[slot] = pixel;
-                    r.shadowRay = true;
+                    r.shadowRay = 1;
                 }
             }
         }
@@ -126,7 +128,7 @@ inline LightHitResult shade_light_hit(
     pathThroughput[slot] = (float4)(beta, 0.0f);
     store_mis(pathMis, slot, mis);
     pathDepth[slot] = depth;
-    r.alive = max_component(beta) > 0.0f;
+    r.alive = max_component(beta) > 0.0f ? 1 : 0;
     return r;
 }
 
@@ -149,7 +151,7 @@ __kernel void shade_light(int capacity, int nextRayQueue, int freeQueue, uint it
     __local int scratch[2];
     int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
     LightHitResult r;
-    r.alive = r.shadowRay = r.storeVertex = false;
+    r.alive = r.shadowRay = r.storeVertex = 0;
     if (slot >= 0)
         r = shade_light_hit(slot, iteration, triVertices, triNormals, triMaterials, materials, camera, seed,
                             maxPathLength, lightTracePaths, connectToCamera, storeVertices, vmWeightFactor,
