@@ -1,6 +1,7 @@
 // Light tracing (-a lt) and bidirectional path tracing (-a bpt) against the
 // path tracer: the same image on every bundled scene, the gain on paths the
 // path tracer cannot sample, and agreement across devices.
+#include "Error.h"
 #include "TestDevices.h"
 #include "TestRendering.h"
 #include "bvh/Bvh.h"
@@ -164,6 +165,41 @@ TEST(Bidirectional, BeatsThePathTracerOnLightThroughGlass)
     std::printf("[ equal time ] bpt %.2f s RMSE %.4f; pt %.2f s (%d iterations) RMSE %.4f\n", bptSeconds, bptError,
                 ptSeconds, ptIterations, ptError);
     EXPECT_LT(bptError, 0.5 * ptError);
+}
+
+// When the light vertices of an iteration do not fit on the device, light
+// paths run in batches, each followed by the camera paths that connect to
+// it. Light path i is the same in any batch (its random numbers depend on i
+// only), so the image equals the unbatched one up to the order of float
+// additions in light tracing's splats.
+TEST(Bidirectional, BatchesWhenLightVerticesDoNotFit)
+{
+    Scene scene = loadGltf(test::cornellBoxPath());
+    DeviceInfo info = test::devicesUnderTest()[0];
+    auto renderWith = [&](size_t maxLightVertices, int* batch) {
+        DeviceContext device(info);
+        Bvh bvh = buildBvh(scene.vertices);
+        RenderSettings s;
+        s.algorithm = Algorithm::Bidirectional;
+        s.width = 32;
+        s.height = 32;
+        s.seed = 3;
+        s.wavefront = 256;
+        s.maxLightVertices = maxLightVertices;
+        Renderer renderer(device, scene, bvh, s);
+        for (int i = 0; i < 4; ++i) renderer.iterate();
+        *batch = renderer.lightPathBatch();
+        return renderer.image();
+    };
+    int wholeBatch, smallBatch;
+    Image whole = renderWith(0, &wholeBatch), batched = renderWith(300, &smallBatch);
+    EXPECT_EQ(wholeBatch, 32 * 32);
+    EXPECT_LT(smallBatch, 32 * 32 / 4) << "300 vertices cannot hold a quarter of the light paths";
+    ImageDifference d = compareImages(batched, whole);
+    EXPECT_LT(d.relMse, 1e-8);
+    EXPECT_NEAR(d.meanRatio, 1.0, 1e-5);
+    // Room for one vertex: some light path needs more, a clear error.
+    EXPECT_THROW(renderWith(1, &smallBatch), Error);
 }
 
 // PoCL and rusticl agree on bpt (as for pt: block means over three seeds

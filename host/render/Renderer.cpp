@@ -133,6 +133,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     batch_ = pixels_;
     lightPathHead_ = deviceBuffer(device, size_t(pixels_) * sizeof(int), "the light path heads");
     vertexBudget_ = std::min<size_t>(device.info.maxAllocation, device.info.globalMemory / 2) / sizeof(LightVertex);
+    if (settings.maxLightVertices > 0) vertexBudget_ = std::min(vertexBudget_, settings.maxLightVertices);
     vertexCapacity_ = 1;
     if (bpt) ensureLightVertexCapacity(size_t(pixels_) * 2);
     else lightVertices_ = deviceBuffer(device, sizeof(LightVertex), "the light vertices");

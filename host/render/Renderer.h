@@ -22,6 +22,9 @@ struct RenderSettings {
     int maxPathLength = 10;
     uint32_t seed = 0;
     int wavefront = 0; // path slots; 0 = the device type's default
+    // Most light vertices kept on the device at once (bidirectional); 0 = what
+    // half the device memory (and its largest allocation) holds.
+    size_t maxLightVertices = 0;
 };
 
 class Renderer {
