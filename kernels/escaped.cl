@@ -5,13 +5,15 @@
  * freed either way. */
 #include "lights.h"
 #include "mis.h"
+#include "path_state.h"
 #include "queues.h"
 
 __kernel void escaped(int capacity, int freeQueue, __global int* queueItems, __global int* queueCounters,
                       int cameraPaths, __global const Light* lights, __constant const SceneInfo* scene,
                       __global const int* pathPixel, __global const int* pathDepth,
                       __global const float4* pathThroughput, __global const float* pathPrevPdf,
-                      __global const float4* pathMis, __global float4* pixelRadiance)
+                      __global const float4* pathMis, __global const int* pathFlags,
+                      __global float4* pixelRadiance)
 {
     __local int scratch[2];
     int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_ESCAPED, get_global_id(0));
@@ -19,7 +21,9 @@ __kernel void escaped(int capacity, int freeQueue, __global int* queueItems, __g
     if (slot >= 0 && cameraPaths && scene->backgroundLight >= 0) {
         __global const Light* bg = &lights[scene->backgroundLight];
         float w = 1.0f; /* seen directly, or through delta scattering only */
-#ifdef BIDIRECTIONAL
+#if defined(VERTEX_MERGING_ONLY)
+        w = (pathFlags[slot] & PATH_SPECULAR) ? 1.0f : 0.0f; /* merging covers the rest */
+#elif defined(BIDIRECTIONAL)
         if (pathDepth[slot] > 1) {
             PathMis mis = load_mis(pathMis, slot);
             float directPdfW, emissionPdfW;

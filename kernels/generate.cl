@@ -32,7 +32,7 @@ __kernel void generate(int capacity, int freeQueue, int rayQueue, int count, int
                        __constant const Camera* camera, uint seed, float lightTracePaths,
                        __global float4* rayOrigins, __global float4* rayDirections, __global int* pathPixel,
                        __global int* pathDepth, __global float4* pathThroughput, __global float* pathPrevPdf,
-                       __global float4* pathMis)
+                       __global float4* pathMis, __global int* pathFlags)
 {
     int slot = take_free_slot(queueItems, queueCounters, capacity, freeQueue, rayQueue, count, rayQueueLength);
     if (slot < 0)
@@ -47,6 +47,7 @@ __kernel void generate(int capacity, int freeQueue, int rayQueue, int count, int
     pathPrevPdf[slot] = 0.0f; /* what the camera sees directly gets full weight */
 #ifdef BIDIRECTIONAL
     store_mis(pathMis, slot, mis_camera_start(lightTracePaths, camera_pdf_w(camera, ray.direction)));
+    pathFlags[slot] = PATH_SPECULAR;
 #endif
 }
 

@@ -7,6 +7,7 @@
 
 /* Bits of pathFlags. */
 #define PATH_FINITE_LIGHT 1 /* a light path from a light with a position */
+#define PATH_SPECULAR 2     /* a camera path with only delta scattering so far */
 
 inline Ray load_ray(__global const float4* origins, __global const float4* directions, int slot)
 {

@@ -1,13 +1,17 @@
-/* shade_bidirectional: camera sub-paths of `-a lt` and `-a bpt` (SmallVCM's
- * camera pass, vertexcm.hxx). At every hit, in order,
+/* shade_bidirectional: camera sub-paths of lt, bpt, ppm, bpm and vcm
+ * (SmallVCM's camera pass, vertexcm.hxx). At every hit, in order,
  *   1. convert the MIS quantities of the last segment to area measure;
  *   2. emission seen here (front faces only), weighted against every other
- *      technique that samples this path (eqs. 42-43);
+ *      technique that samples this path (eqs. 42-43); with merging but no
+ *      connections (ppm, bpm) only purely specular paths take it, with
+ *      weight 1, as merging covers the rest;
  *   lt ends here: its camera paths only see what is directly visible;
- *   3. next-event estimation with its weight (eqs. 44-45), queued for `connect`;
- *      (vertex connections were added by `connect_vertices` before this)
+ *   3. next-event estimation with its weight (eqs. 44-45), queued for
+ *      `connect` (not in ppm and bpm); vertex connections and merges were
+ *      added by `connect_vertices` and `merge` before this;
  *   4. sample the BSDF to continue, with Russian roulette by the material's
- *      continuation probability (part of every pdf in the weights). */
+ *      continuation probability (part of every pdf in the weights); ppm ends
+ *      the path at its first non-delta vertex, where it merged. */
 #include "bsdf.h"
 #include "lights.h"
 #include "mis.h"
@@ -29,8 +33,9 @@ inline CameraHitResult shade_camera_hit(
     uint seed, int maxPathLength, float vmWeightFactor, float vcWeightFactor, __global float4* rayOrigins,
     __global float4* rayDirections, __global const float* hitT, __global const int* hitTriangle,
     __global const float2* hitBary, __global const int* pathPixel, __global int* pathDepth,
-    __global float4* pathThroughput, __global float4* pathMis, __global float4* shadowOrigins,
-    __global float4* shadowDirections, __global float4* shadowContribution, __global float4* pixelRadiance)
+    __global float4* pathThroughput, __global float4* pathMis, __global int* pathFlags,
+    __global float4* shadowOrigins, __global float4* shadowDirections, __global float4* shadowContribution,
+    __global float4* pixelRadiance)
 {
     CameraHitResult r = {0, 0};
     int tri = hitTriangle[slot];
@@ -46,13 +51,18 @@ inline CameraHitResult shade_camera_hit(
 
 #ifdef HAS_EMISSIVE_TRIANGLES
     int light = triangleLight[tri];
+    bool specularPath = (pathFlags[slot] & PATH_SPECULAR) != 0;
     if (light >= 0 && hit.frontSide) {
         float w = 1.0f; /* seen directly: no other technique */
+#ifdef VERTEX_MERGING_ONLY
+        w = specularPath ? 1.0f : 0.0f;
+#else
         if (depth > 1) {
             float directPdfA, emissionPdfW;
             triangle_hit_pdfs(lights[light].pmf, lights[light].area, dot(wo, hit.ngF), &directPdfA, &emissionPdfW);
             w = 1.0f / (1.0f + directPdfA * mis.dVCM + emissionPdfW * mis.dVC);
         }
+#endif
         L += w * beta * vload3(0, lights[light].emission);
     }
 #endif
@@ -61,7 +71,11 @@ inline CameraHitResult shade_camera_hit(
     Bsdf bsdf = make_bsdf(&materials[triMaterials[tri]], woL, hit.frontSide);
     bool alive = depth < maxPathLength && !bsdf_is_black(&bsdf);
     float cont = continuation_probability(&bsdf);
+#ifdef PPM
+    alive = alive && !bsdf_has_nondelta(&bsdf);
+#endif
 
+#ifndef VERTEX_MERGING_ONLY
     if (alive && scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
         float4 u = rng_uniform4(seed, iteration, (uint)pixel, (uint)depth, 0u);
         LightSample ls;
@@ -87,6 +101,7 @@ inline CameraHitResult shade_camera_hit(
             }
         }
     }
+#endif
 
     if (alive) {
         float4 u = rng_uniform4(seed, iteration, (uint)pixel, (uint)depth, 1u);
@@ -114,6 +129,8 @@ inline CameraHitResult shade_camera_hit(
             pathThroughput[slot] = (float4)(beta, 0.0f);
             store_mis(pathMis, slot, mis);
             pathDepth[slot] = depth + 1;
+            if (!bs.delta)
+                pathFlags[slot] = 0;
         }
     }
     r.alive = alive ? 1 : 0;
@@ -134,7 +151,7 @@ __kernel void shade_bidirectional(int capacity, int nextRayQueue, int freeQueue,
                                   __global const float* hitT, __global const int* hitTriangle,
                                   __global const float2* hitBary, __global const int* pathPixel,
                                   __global int* pathDepth, __global float4* pathThroughput,
-                                  __global float4* pathMis, __global float4* shadowOrigins,
+                                  __global float4* pathMis, __global int* pathFlags, __global float4* shadowOrigins,
                                   __global float4* shadowDirections, __global float4* shadowContribution,
                                   __global float4* pixelRadiance)
 {
@@ -145,7 +162,8 @@ __kernel void shade_bidirectional(int capacity, int nextRayQueue, int freeQueue,
         r = shade_camera_hit(slot, iteration, triVertices, triNormals, triMaterials, materials, lights, lightCdf,
                              triangleLight, scene, seed, maxPathLength, vmWeightFactor, vcWeightFactor, rayOrigins,
                              rayDirections, hitT, hitTriangle, hitBary, pathPixel, pathDepth, pathThroughput,
-                             pathMis, shadowOrigins, shadowDirections, shadowContribution, pixelRadiance);
+                             pathMis, pathFlags, shadowOrigins, shadowDirections, shadowContribution,
+                             pixelRadiance);
     queue_push(queueItems, queueCounters, capacity, QUEUE_SHADOW, r.shadowRay, slot, scratch);
     queue_push(queueItems, queueCounters, capacity, nextRayQueue, r.alive, slot, scratch);
     queue_push(queueItems, queueCounters, capacity, freeQueue, slot >= 0 && !r.alive, slot, scratch);

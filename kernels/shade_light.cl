@@ -72,6 +72,7 @@ inline LightHitResult shade_light_hit(
             v->triangle = tri;
             v->b1 = bary.x;
             v->b2 = bary.y;
+            v->continuation = cont;
         }
         if (connectToCamera && depth + 1 <= maxPathLength) {
             float3 cameraPosition = vload3(0, camera->position);

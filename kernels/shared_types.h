@@ -106,7 +106,8 @@ typedef struct LightVertex {
     int triangle;        /* BVH-ordered: material, normals */
     float b1;            /* barycentrics of the hit */
     float b2;
-    float pad[3];
+    float continuation;  /* Russian roulette survival probability of its BSDF (merging's reverse pdf) */
+    float pad[2];
 } LightVertex;
 
 /* Scene-wide constants the kernels need besides the arrays. */

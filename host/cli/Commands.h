@@ -16,6 +16,7 @@ struct RenderOptions {
     int maxPathLength = 10;
     unsigned seed = 0;
     int wavefront = 0;
+    double radiusFactor = 0.003, radiusAlpha = 0.75;
     std::string statsFile;
     bool quiet = false;
     bool profile = false;

@@ -74,6 +74,8 @@ static void validate(const RenderOptions& o)
         throw Error("--width and --height must be between 1 and 32768");
     if (o.maxPathLength < 1) throw Error("--max-path-length must be at least 1");
     if (o.wavefront < 0) throw Error("--wavefront must be positive");
+    if (!(o.radiusFactor > 0) || !std::isfinite(o.radiusFactor)) throw Error("--radius-factor must be positive");
+    if (!(o.radiusAlpha > 0 && o.radiusAlpha <= 1)) throw Error("--radius-alpha must be in (0, 1]");
 }
 
 // The image size: both given, one given (the other from the camera's aspect
@@ -90,8 +92,6 @@ int runRender(const RenderOptions& o)
     validate(o);
     RenderSettings settings;
     settings.algorithm = parseAlgorithm(o.algorithm);
-    if (!isImplemented(settings.algorithm))
-        throw Error("algorithm '" + o.algorithm + "' is not implemented yet (available: el, pt, lt, bpt)");
     // Check the output's format before the render, not after it.
     std::string ext = fs::path(o.output).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -106,6 +106,8 @@ int runRender(const RenderOptions& o)
     settings.maxPathLength = o.maxPathLength;
     settings.seed = o.seed;
     settings.wavefront = o.wavefront;
+    settings.radiusFactor = float(o.radiusFactor);
+    settings.radiusAlpha = float(o.radiusAlpha);
 
     Bvh bvh = buildBvh(scene.vertices);
     std::vector<DeviceInfo> devices = enumerateDevices();
@@ -168,6 +170,7 @@ int runRender(const RenderOptions& o)
             {"kernel_build_seconds", renderer.programBuild().seconds},
             {"kernel_cache_hit", renderer.programBuild().fromCache},
             {"wavefront", renderer.wavefront()},
+            {"merge_radius", renderer.mergeRadius()},
             {"device_bytes", renderer.deviceBytes()},
         };
         std::ofstream out(o.statsFile);

@@ -28,6 +28,11 @@ int main(int argc, char** argv)
         ->capture_default_str();
     render->add_option("--seed", r.seed, "random seed")->capture_default_str();
     render->add_option("--wavefront", r.wavefront, "path slots per wavefront (default: by device type)");
+    render->add_option("--radius-factor", r.radiusFactor,
+                       "merge radius of the first iteration, times the scene's bounding-sphere radius")
+        ->capture_default_str();
+    render->add_option("--radius-alpha", r.radiusAlpha, "radius reduction: r_i = r_1 i^((alpha-1)/2)")
+        ->capture_default_str();
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
     render->add_flag("--profile", r.profile, "print the device time spent in each kernel");

@@ -29,10 +29,4 @@ std::string algorithmName(Algorithm a)
     return "?";
 }
 
-bool isImplemented(Algorithm a)
-{
-    return a == Algorithm::EyeLight || a == Algorithm::PathTracing || a == Algorithm::LightTracing ||
-           a == Algorithm::Bidirectional;
-}
-
 } // namespace wv

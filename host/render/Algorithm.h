@@ -11,6 +11,5 @@ enum class Algorithm { EyeLight, PathTracing, LightTracing, Bidirectional, Progr
 // "el", "pt", ...; throws wv::Error for an unknown name.
 Algorithm parseAlgorithm(const std::string& name);
 std::string algorithmName(Algorithm a);
-bool isImplemented(Algorithm a);
 
 } // namespace wv

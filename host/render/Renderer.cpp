@@ -4,6 +4,7 @@
 #include "../Error.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace wv {
 
@@ -15,8 +16,8 @@ std::vector<std::string> Renderer::kernelFiles(Algorithm algorithm)
     case Algorithm::PathTracing:
         return {"generate.cl", "extend.cl", "shade.cl", "escaped.cl", "connect.cl", "accumulate.cl"};
     default:
-        return {"generate.cl", "extend.cl", "shade_light.cl", "connect_vertices.cl", "shade_bidirectional.cl",
-                "escaped.cl", "connect.cl", "accumulate.cl"};
+        return {"generate.cl", "extend.cl", "shade_light.cl", "hash_grid.cl", "connect_vertices.cl", "merge.cl",
+                "shade_bidirectional.cl", "escaped.cl", "connect.cl", "accumulate.cl"};
     }
 }
 
@@ -46,16 +47,21 @@ template <typename... Args> static void setArgs(cl::Kernel& kernel, const Args&.
 
 // Placeholders for the arguments every round sets.
 static const int kRoundArg = 0;
+// Buckets per serially scanned chunk of the hash grid's prefix sum.
+static const uint32_t kScanChunk = 1024;
 
 Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings)
     : device_(device), settings_(settings), lights_(buildLightTable(scene, bvh)),
       sceneBuffers_(device, scene, bvh, lights_), paths_(makePathState(device, settings))
 {
     Algorithm algorithm = settings.algorithm;
-    if (!isImplemented(algorithm))
-        throw Error("algorithm '" + algorithmName(algorithm) + "' is not implemented yet");
-    bidirectional_ = algorithm == Algorithm::LightTracing || algorithm == Algorithm::Bidirectional;
-    bool bpt = algorithm == Algorithm::Bidirectional;
+    bidirectional_ = algorithm != Algorithm::EyeLight && algorithm != Algorithm::PathTracing;
+    // Which techniques the bidirectional algorithms combine (SmallVCM's useVC/useVM).
+    useVC_ = algorithm == Algorithm::Bidirectional || algorithm == Algorithm::VertexConnectionMerging;
+    useVM_ = algorithm == Algorithm::ProgressivePhotonMapping || algorithm == Algorithm::BidirectionalPhotonMapping ||
+             algorithm == Algorithm::VertexConnectionMerging;
+    bool lightTracing = algorithm == Algorithm::LightTracing;
+    sceneRadius_ = lights_.info.radius;
     pixels_ = settings.width * settings.height;
     Camera camera = makeCamera(scene.camera, settings.width, settings.height);
     camera_ = uploadBuffer(device, &camera, sizeof camera, "the camera");
@@ -71,7 +77,9 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     std::string options = "-cl-std=CL1.2" + scene.features().buildOptions();
     if (algorithm == Algorithm::EyeLight) options += " -DEYE_LIGHT";
     if (bidirectional_) options += " -DBIDIRECTIONAL";
-    if (algorithm == Algorithm::LightTracing) options += " -DLIGHT_TRACING";
+    if (lightTracing) options += " -DLIGHT_TRACING";
+    if (useVM_ && !useVC_) options += " -DVERTEX_MERGING_ONLY";
+    if (algorithm == Algorithm::ProgressivePhotonMapping) options += " -DPPM";
     build_ = buildProgram(device.context, device.info, source, options);
 
     // One fixed local size: PoCL compiles a work-group function per local
@@ -90,13 +98,14 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     Phase& c = cameraPhase_;
     c.generate = kernel("generate");
     setArgs(c.generate, r, r, r, r, r, r, 0u, p.queueItems, p.counters, camera_, settings.seed, lightTracePaths,
-            p.rayOrigins, p.rayDirections, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathPrevPdf, p.pathMis);
+            p.rayOrigins, p.rayDirections, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathPrevPdf, p.pathMis,
+            p.pathFlags);
     c.extend = kernel("extend");
     setArgs(c.extend, r, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.rayOrigins, p.rayDirections, p.hitT,
             p.hitTriangle, p.hitBary);
     c.escaped = kernel("escaped");
     setArgs(c.escaped, r, r, p.queueItems, p.counters, 1, s.lights, s.sceneInfo, p.pathPixel, p.pathDepth,
-            p.pathThroughput, p.pathPrevPdf, p.pathMis, pixelRadiance_);
+            p.pathThroughput, p.pathPrevPdf, p.pathMis, p.pathFlags, pixelRadiance_);
     switch (algorithm) {
     case Algorithm::EyeLight:
         c.shade = kernel("shade_eyelight");
@@ -116,10 +125,10 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
         setArgs(c.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials,
                 s.materials, s.lights, s.lightCdf, s.triangleLight, s.sceneInfo, settings.seed,
                 settings.maxPathLength, vmWeightFactor, vcWeightFactor, p.rayOrigins, p.rayDirections, p.hitT,
-                p.hitTriangle, p.hitBary, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, p.shadowOrigins,
-                p.shadowDirections, p.shadowContribution, pixelRadiance_);
+                p.hitTriangle, p.hitBary, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, p.pathFlags,
+                p.shadowOrigins, p.shadowDirections, p.shadowContribution, pixelRadiance_);
     }
-    if (algorithm == Algorithm::PathTracing || bpt) {
+    if (algorithm == Algorithm::PathTracing || useVC_) {
         c.connect = kernel("connect");
         setArgs(c.connect, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.shadowOrigins, p.shadowDirections,
                 p.shadowContribution, p.pathPixel, pixelRadiance_);
@@ -134,8 +143,9 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     lightPathHead_ = deviceBuffer(device, size_t(pixels_) * sizeof(int), "the light path heads");
     vertexBudget_ = std::min<size_t>(device.info.maxAllocation, device.info.globalMemory / 2) / sizeof(LightVertex);
     if (settings.maxLightVertices > 0) vertexBudget_ = std::min(vertexBudget_, settings.maxLightVertices);
+    bool storeVertices = useVC_ || useVM_;
     vertexCapacity_ = 1;
-    if (bpt) ensureLightVertexCapacity(size_t(pixels_) * 2);
+    if (storeVertices) ensureLightVertexCapacity(size_t(pixels_) * 2);
     else lightVertices_ = deviceBuffer(device, sizeof(LightVertex), "the light vertices");
     Phase& l = lightPhase_;
     l.generate = kernel("generate_light");
@@ -147,24 +157,37 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
             p.hitTriangle, p.hitBary);
     l.shade = kernel("shade_light");
     setArgs(l.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials, s.materials,
-            camera_, settings.seed, settings.maxPathLength, lightTracePaths, 1, int(bpt), vmWeightFactor,
+            camera_, settings.seed, settings.maxPathLength, lightTracePaths, int(lightTracing || useVC_),
+            int(storeVertices), vmWeightFactor,
             vcWeightFactor, p.rayOrigins, p.rayDirections, p.hitT, p.hitTriangle, p.hitBary, p.pathPixel, p.pathDepth,
             p.pathThroughput, p.pathMis, p.pathFlags, p.pathLastVertex, p.shadowOrigins, p.shadowDirections,
             p.shadowContribution, p.shadowPixel, lightVertices_, int(vertexCapacity_), 0, lightPathHead_);
     l.escaped = kernel("escaped");
     setArgs(l.escaped, r, r, p.queueItems, p.counters, 0, s.lights, s.sceneInfo, p.pathPixel, p.pathDepth,
-            p.pathThroughput, p.pathPrevPdf, p.pathMis, pixelRadiance_);
+            p.pathThroughput, p.pathPrevPdf, p.pathMis, p.pathFlags, pixelRadiance_);
     l.connect = kernel("connect_splat");
     setArgs(l.connect, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.shadowOrigins, p.shadowDirections,
             p.shadowContribution, p.shadowPixel, splatRadiance_);
-    l.hasConnect = true;
-    if (bpt) {
+    l.hasConnect = lightTracing || useVC_;
+    if (useVC_) {
         c.connectVertices = kernel("connect_vertices");
         setArgs(c.connectVertices, r, p.queueItems, p.counters, s.nodes, s.triVertices, s.triNormals, s.triMaterials,
                 s.materials, settings.maxPathLength, vmWeightFactor, p.rayDirections, p.hitT, p.hitTriangle,
                 p.hitBary, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, lightVertices_, 0, lightPathHead_,
                 pixelRadiance_);
         c.hasConnectVertices = true;
+    }
+    if (useVM_) {
+        c.merge = kernel("merge");
+        setArgs(c.merge, r, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials, s.materials,
+                settings.maxPathLength, 0.0f, 0.0f, 0.0f, p.rayDirections, p.hitT, p.hitTriangle, p.hitBary,
+                p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, lightVertices_);
+        c.hasMerge = true;
+        gridCount_ = kernel("grid_count");
+        scanChunks_ = kernel("scan_chunks");
+        scanTotals_ = kernel("scan_totals");
+        scanAdd_ = kernel("scan_add");
+        gridScatter_ = kernel("grid_scatter");
     }
 }
 
@@ -185,8 +208,70 @@ void Renderer::ensureLightVertexCapacity(size_t vertices)
     if (lightPhase_.shade()) {
         lightPhase_.shade.setArg(33, lightVertices_);
         lightPhase_.shade.setArg(34, int(vertexCapacity_));
-        cameraPhase_.connectVertices.setArg(18, lightVertices_);
     }
+    if (cameraPhase_.hasConnectVertices) cameraPhase_.connectVertices.setArg(18, lightVertices_);
+    if (cameraPhase_.hasMerge) cameraPhase_.merge.setArg(19, lightVertices_);
+    if (useVM_) {
+        // One bucket per vertex on average (SmallVCM), a power of two.
+        cellCount_ = 1024;
+        while (cellCount_ < vertexCapacity_ && cellCount_ < (1u << 30)) cellCount_ *= 2;
+        bucketStarts_ = deviceBuffer(device_, (size_t(cellCount_) + 1) * sizeof(int), "the hash grid");
+        bucketFill_ = deviceBuffer(device_, size_t(cellCount_) * sizeof(int), "the hash grid");
+        bucketVertices_ = deviceBuffer(device_, vertexCapacity_ * sizeof(int), "the hash grid");
+        chunkTotals_ = deviceBuffer(device_, (size_t(cellCount_) / kScanChunk + 2) * sizeof(int), "the hash grid");
+    }
+}
+
+// Per batch: the merge radius of this iteration and the MIS constants that
+// depend on it (Georgiev's report, eq. 20): η_VCM = π r² N_light, the VM
+// weight factor η_VCM, the VC weight factor 1/η_VCM, and merging's
+// normalisation 1/(π r² N_light), N_light the light paths whose vertices
+// are in the grid. The techniques an algorithm lacks get factor 0.
+void Renderer::setBatchConstants(int lightPaths)
+{
+    float r1 = settings_.radiusFactor * sceneRadius_;
+    radius_ = useVM_ ? std::max(r1 * std::pow(float(iteration_ + 1), 0.5f * (settings_.radiusAlpha - 1.0f)),
+                                1e-7f * sceneRadius_)
+                     : 0.0f;
+    float eta = float(M_PI) * radius_ * radius_ * float(lightPaths);
+    float vmWeightFactor = useVM_ ? eta : 0.0f;
+    float vcWeightFactor = useVM_ && useVC_ ? 1.0f / eta : 0.0f;
+    lightPhase_.generate.setArg(14, vcWeightFactor);
+    lightPhase_.shade.setArg(16, vmWeightFactor);
+    lightPhase_.shade.setArg(17, vcWeightFactor);
+    cameraPhase_.shade.setArg(16, vmWeightFactor);
+    cameraPhase_.shade.setArg(17, vcWeightFactor);
+    if (cameraPhase_.hasConnectVertices) cameraPhase_.connectVertices.setArg(9, vmWeightFactor);
+    if (cameraPhase_.hasMerge) {
+        cameraPhase_.merge.setArg(8, radius_);
+        cameraPhase_.merge.setArg(9, useVM_ ? 1.0f / eta : 0.0f);
+        cameraPhase_.merge.setArg(10, vcWeightFactor);
+    }
+}
+
+// Counting sort of the stored light vertices into the hash grid's buckets
+// (hash_grid.cl), cells of size 2r.
+void Renderer::buildHashGrid()
+{
+    int count = int(std::min(size_t(lightVertexCount()), vertexCapacity_));
+    float cellSize = 2.0f * radius_;
+    int chunks = int((cellCount_ + kScanChunk - 1) / kScanChunk);
+    device_.queue.enqueueFillBuffer(bucketStarts_, 0, 0, (size_t(cellCount_) + 1) * sizeof(int));
+    device_.queue.enqueueFillBuffer(bucketFill_, 0, 0, size_t(cellCount_) * sizeof(int));
+    setArgs(gridCount_, lightVertices_, count, cellSize, cellCount_, bucketStarts_);
+    setArgs(scanChunks_, bucketStarts_, int(cellCount_), int(kScanChunk), chunkTotals_, chunks);
+    setArgs(scanTotals_, chunkTotals_, chunks);
+    setArgs(scanAdd_, bucketStarts_, int(cellCount_), int(kScanChunk), chunkTotals_);
+    setArgs(gridScatter_, lightVertices_, count, cellSize, cellCount_, bucketStarts_, bucketFill_, bucketVertices_);
+    if (count > 0) launch(gridCount_, size_t(count));
+    launch(scanChunks_, size_t(chunks));
+    launch(scanTotals_, 1);
+    launch(scanAdd_, size_t(cellCount_) + 1);
+    if (count > 0) launch(gridScatter_, size_t(count));
+    cameraPhase_.merge.setArg(20, bucketStarts_);
+    cameraPhase_.merge.setArg(21, bucketVertices_);
+    cameraPhase_.merge.setArg(22, cellCount_);
+    cameraPhase_.merge.setArg(23, pixelRadiance_);
 }
 
 int Renderer::lightVertexCount()
@@ -235,6 +320,10 @@ void Renderer::round(Phase& phase, int parity, size_t generated, size_t issued, 
         phase.connectVertices.setArg(0, capacity);
         launch(phase.connectVertices, live);
     }
+    if (phase.hasMerge) {
+        phase.merge.setArg(0, capacity);
+        launch(phase.merge, live);
+    }
     launch(phase.shade, live);
     launch(phase.escaped, live);
     if (phase.hasConnect) {
@@ -280,7 +369,8 @@ void Renderer::iterate()
     if (!bidirectional_) {
         runPhase(cameraPhase_, 0, pixels_);
     } else {
-        bool bpt = settings_.algorithm == Algorithm::Bidirectional;
+        bool storeVertices = useVC_ || useVM_;
+        bool splats = settings_.algorithm == Algorithm::LightTracing || useVC_;
         // Light paths go in batches whose vertices fit on the device; each
         // batch's camera paths connect to them. Light tracing splats onto any
         // pixel, so a batch whose splats are done (`splatted`) never splats
@@ -289,8 +379,9 @@ void Renderer::iterate()
         for (int first = 0; first < pixels_;) {
             int count = std::min(batch_, pixels_ - first);
             if (first < splatted) count = std::min(count, splatted - first);
-            bool connectToCamera = first >= splatted;
+            bool connectToCamera = splats && first >= splatted;
             for (;;) {
+                setBatchConstants(count);
                 lightPhase_.generate.setArg(23, first);
                 lightPhase_.shade.setArg(14, int(connectToCamera));
                 lightPhase_.shade.setArg(35, first);
@@ -300,7 +391,7 @@ void Renderer::iterate()
                                                  sizeof zero, &zero);
                 runPhase(lightPhase_, first, count);
                 if (connectToCamera) splatted = first + count;
-                size_t wanted = bpt ? size_t(lightVertexCount()) : 0;
+                size_t wanted = storeVertices ? size_t(lightVertexCount()) : 0;
                 if (wanted <= vertexCapacity_) break;
                 connectToCamera = false;
                 if (wanted <= vertexBudget_) {
@@ -312,7 +403,8 @@ void Renderer::iterate()
                 count /= 2;
                 batch_ = count;
             }
-            if (bpt) cameraPhase_.connectVertices.setArg(19, first);
+            if (useVC_) cameraPhase_.connectVertices.setArg(19, first);
+            if (useVM_) buildHashGrid();
             runPhase(cameraPhase_, first, count);
             first += count;
         }

@@ -25,6 +25,10 @@ struct RenderSettings {
     // Most light vertices kept on the device at once (bidirectional); 0 = what
     // half the device memory (and its largest allocation) holds.
     size_t maxLightVertices = 0;
+    // Vertex merging: r_1 = radiusFactor × the scene's bounding-sphere radius,
+    // r_i = r_1 · i^((α − 1)/2) in iteration i = 1, 2, ...
+    float radiusFactor = 0.003f;
+    float radiusAlpha = 0.75f;
 };
 
 class Renderer {
@@ -48,6 +52,8 @@ public:
     // Light paths per batch (bidirectional): all pixels unless the light
     // vertices of that many paths do not fit on the device.
     int lightPathBatch() const { return batch_; }
+    // The merge radius of the last iteration (0 without merging).
+    float mergeRadius() const { return radius_; }
 
     // Device time per kernel so far, in seconds (needs a profiling queue,
     // see DeviceContext; empty otherwise).
@@ -60,8 +66,8 @@ private:
     // The kernels of one kind of sub-path. Their leading arguments follow one
     // convention per role (kernels/*.cl), which the rounds set.
     struct Phase {
-        cl::Kernel generate, extend, connectVertices, shade, escaped, connect;
-        bool hasConnectVertices = false, hasConnect = false;
+        cl::Kernel generate, extend, connectVertices, merge, shade, escaped, connect;
+        bool hasConnectVertices = false, hasMerge = false, hasConnect = false;
     };
 
     void launch(cl::Kernel& kernel, size_t items);
@@ -69,6 +75,8 @@ private:
     void round(Phase& phase, int parity, size_t generated, size_t issued, size_t rays);
     int lightVertexCount();
     void ensureLightVertexCapacity(size_t vertices);
+    void setBatchConstants(int lightPaths);
+    void buildHashGrid();
     void collectProfile();
 
     DeviceContext& device_;
@@ -85,6 +93,12 @@ private:
     cl::Buffer lightVertices_; // LightVertex[vertexCapacity_]
     cl::Buffer lightPathHead_; // int per light path of a batch
     size_t vertexCapacity_ = 0, vertexBudget_ = 0;
+    bool useVC_ = false, useVM_ = false;
+    float sceneRadius_ = 0, radius_ = 0;
+    // The hash grid over the light vertices (merging).
+    cl::Kernel gridCount_, scanChunks_, scanTotals_, scanAdd_, gridScatter_;
+    cl::Buffer bucketStarts_, bucketFill_, bucketVertices_, chunkTotals_;
+    uint32_t cellCount_ = 0;
     int batch_ = 0;
     int pixels_ = 0;
     int iteration_ = 0;

@@ -1,0 +1,39 @@
+/* The hash grid over light vertices (SmallVCM's hashgrid.hxx, on the
+ * device): cells of size 2r hashed into `cellCount` buckets; bucket b holds
+ * the vertices cellVertices[cellStarts[b], cellStarts[b+1]). A query sphere
+ * of radius r around x lies within the 2×2×2 cells nearest x. */
+#ifndef WAVEVCM_HASH_GRID_H
+#define WAVEVCM_HASH_GRID_H
+
+inline int3 grid_cell(float3 p, float cellSize)
+{
+    float3 c = floor(p / cellSize);
+    return (int3)((int)c.x, (int)c.y, (int)c.z);
+}
+
+/* Teschner et al.'s spatial hash, as in SmallVCM. */
+inline uint grid_bucket(int3 cell, uint cellCount)
+{
+    return (((uint)cell.x * 73856093u) ^ ((uint)cell.y * 19349663u) ^ ((uint)cell.z * 83492791u)) % cellCount;
+}
+
+/* The buckets of the 2×2×2 cells nearest x, with duplicates (two cells
+ * hashing to one bucket) replaced by -1 so no vertex is visited twice. */
+inline void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buckets[8])
+{
+    float3 scaled = x / cellSize;
+    float3 base = floor(scaled);
+    int3 c = (int3)((int)base.x, (int)base.y, (int)base.z);
+    float3 frac = scaled - base;
+    int3 o = (int3)(frac.x < 0.5f ? -1 : 1, frac.y < 0.5f ? -1 : 1, frac.z < 0.5f ? -1 : 1);
+    for (int i = 0; i < 8; ++i) {
+        int3 cell = c + (int3)((i & 1) ? o.x : 0, (i & 2) ? o.y : 0, (i & 4) ? o.z : 0);
+        int b = (int)grid_bucket(cell, cellCount);
+        for (int j = 0; j < i; ++j)
+            if (buckets[j] == b)
+                b = -1;
+        buckets[i] = b;
+    }
+}
+
+#endif

@@ -1,0 +1,75 @@
+/* merge (`-a ppm`, `-a bpm`, `-a vcm`): vertex merging. Every camera hit
+ * with a non-delta BSDF gathers the light vertices within radius r (a range
+ * query in the hash grid) as a path sampling technique (Georgiev et al. 2012):
+ * each merge adds f · throughput_light / (π r² N_light), weighted against all
+ * other techniques with dVCM and dVM (eqs. 37-39; ppm: weight 1). It runs
+ * before `shade`, which then moves the path on. No cosine at the camera
+ * vertex: the light vertices' density on the surface already carries it. */
+#include "bsdf.h"
+#include "hash_grid.h"
+#include "mis.h"
+#include "path_state.h"
+#include "queues.h"
+#include "surface.h"
+
+__kernel void merge(int capacity, __global const int* queueItems, __global const int* queueCounters,
+                    __global const float4* triVertices, __global const float4* triNormals,
+                    __global const int* triMaterials, __global const Material* materials, int maxPathLength,
+                    float radius, float vmNormalization, float vcWeightFactor,
+                    __global const float4* rayDirections, __global const float* hitT,
+                    __global const int* hitTriangle, __global const float2* hitBary, __global const int* pathPixel,
+                    __global const int* pathDepth, __global const float4* pathThroughput,
+                    __global const float4* pathMis, __global const LightVertex* lightVertices,
+                    __global const int* bucketStarts, __global const int* bucketVertices, uint cellCount,
+                    __global float4* pixelRadiance)
+{
+    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
+    if (slot < 0)
+        return;
+    int tri = hitTriangle[slot];
+    float3 wo = -rayDirections[slot].xyz;
+    SurfaceHit hit = surface_hit(triVertices, triNormals, tri, hitBary[slot], wo);
+    float3 woL = to_local(&hit.frame, wo);
+    Bsdf bsdf = make_bsdf(&materials[triMaterials[tri]], woL, hit.frontSide);
+    if (!bsdf_has_nondelta(&bsdf))
+        return;
+    PathMis mis = load_mis(pathMis, slot);
+    mis_at_hit(&mis, hitT[slot], fabs(woL.z), true);
+    float contCamera = continuation_probability(&bsdf);
+    int depth = pathDepth[slot];
+    float radius2 = radius * radius;
+
+    int buckets[8];
+    grid_query_buckets(hit.p, 2.0f * radius, cellCount, buckets);
+    float3 sum = (float3)(0.0f);
+    for (int k = 0; k < 8; ++k) {
+        if (buckets[k] < 0)
+            continue;
+        int end = bucketStarts[buckets[k] + 1];
+        for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
+            __global const LightVertex* lv = &lightVertices[bucketVertices[j]];
+            float3 d = vload3(0, lv->position) - hit.p;
+            if (dot(d, d) > radius2 || lv->pathLength + depth > maxPathLength)
+                continue;
+            /* The light arrives along the light vertex's incoming direction. */
+            float3 toLight = vload3(0, lv->toLight);
+            float3 toLightL = to_local(&hit.frame, toLight);
+            if (!sides_agree(&hit, toLight, toLightL))
+                continue;
+            float pdfFwd, pdfRev;
+            float3 f = bsdf_eval(&bsdf, woL, toLightL, false, &pdfFwd, &pdfRev);
+            if (!(max_component(f) > 0.0f))
+                continue;
+            float w = 1.0f;
+#ifndef PPM
+            float cameraDirPdfW = pdfFwd * contCamera, cameraRevPdfW = pdfRev * lv->continuation;
+            float wLight = lv->dVCM * vcWeightFactor + lv->dVM * cameraDirPdfW;
+            float wCamera = mis.dVCM * vcWeightFactor + mis.dVM * cameraRevPdfW;
+            w = 1.0f / (wLight + 1.0f + wCamera);
+#endif
+            sum += w * f * vload3(0, lv->throughput);
+        }
+    }
+    if (any(sum != 0.0f))
+        pixelRadiance[pathPixel[slot]] += (float4)(pathThroughput[slot].xyz * sum * vmNormalization, 0.0f);
+}
