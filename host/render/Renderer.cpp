@@ -47,8 +47,6 @@ template <typename... Args> static void setArgs(cl::Kernel& kernel, const Args&.
 
 // Placeholders for the arguments every round sets.
 static const int kRoundArg = 0;
-// Buckets per serially scanned chunk of the hash grid's prefix sum.
-static const uint32_t kScanChunk = 1024;
 
 Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings)
     : device_(device), settings_(settings), lights_(buildLightTable(scene, bvh)),
@@ -183,11 +181,8 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
                 settings.maxPathLength, 0.0f, 0.0f, 0.0f, p.rayDirections, p.hitT, p.hitTriangle, p.hitBary,
                 p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, lightVertices_);
         c.hasMerge = true;
-        gridCount_ = kernel("grid_count");
-        scanChunks_ = kernel("scan_chunks");
-        scanTotals_ = kernel("scan_totals");
-        scanAdd_ = kernel("scan_add");
-        gridScatter_ = kernel("grid_scatter");
+        grid_ = std::make_unique<HashGrid>(device, build_.program);
+        grid_->reserve(vertexCapacity_);
     }
 }
 
@@ -211,15 +206,7 @@ void Renderer::ensureLightVertexCapacity(size_t vertices)
     }
     if (cameraPhase_.hasConnectVertices) cameraPhase_.connectVertices.setArg(18, lightVertices_);
     if (cameraPhase_.hasMerge) cameraPhase_.merge.setArg(19, lightVertices_);
-    if (useVM_) {
-        // One bucket per vertex on average (SmallVCM), a power of two.
-        cellCount_ = 1024;
-        while (cellCount_ < vertexCapacity_ && cellCount_ < (1u << 30)) cellCount_ *= 2;
-        bucketStarts_ = deviceBuffer(device_, (size_t(cellCount_) + 1) * sizeof(int), "the hash grid");
-        bucketFill_ = deviceBuffer(device_, size_t(cellCount_) * sizeof(int), "the hash grid");
-        bucketVertices_ = deviceBuffer(device_, vertexCapacity_ * sizeof(int), "the hash grid");
-        chunkTotals_ = deviceBuffer(device_, (size_t(cellCount_) / kScanChunk + 2) * sizeof(int), "the hash grid");
-    }
+    if (grid_) grid_->reserve(vertexCapacity_);
 }
 
 // Per batch: the merge radius of this iteration and the MIS constants that
@@ -249,37 +236,21 @@ void Renderer::setBatchConstants(int lightPaths)
     }
 }
 
-// Counting sort of the stored light vertices into the hash grid's buckets
-// (hash_grid.cl), cells of size 2r.
-void Renderer::buildHashGrid()
-{
-    int count = int(std::min(size_t(lightVertexCount()), vertexCapacity_));
-    float cellSize = 2.0f * radius_;
-    int chunks = int((cellCount_ + kScanChunk - 1) / kScanChunk);
-    device_.queue.enqueueFillBuffer(bucketStarts_, 0, 0, (size_t(cellCount_) + 1) * sizeof(int));
-    device_.queue.enqueueFillBuffer(bucketFill_, 0, 0, size_t(cellCount_) * sizeof(int));
-    setArgs(gridCount_, lightVertices_, count, cellSize, cellCount_, bucketStarts_);
-    setArgs(scanChunks_, bucketStarts_, int(cellCount_), int(kScanChunk), chunkTotals_, chunks);
-    setArgs(scanTotals_, chunkTotals_, chunks);
-    setArgs(scanAdd_, bucketStarts_, int(cellCount_), int(kScanChunk), chunkTotals_);
-    setArgs(gridScatter_, lightVertices_, count, cellSize, cellCount_, bucketStarts_, bucketFill_, bucketVertices_);
-    if (count > 0) launch(gridCount_, size_t(count));
-    launch(scanChunks_, size_t(chunks));
-    launch(scanTotals_, 1);
-    launch(scanAdd_, size_t(cellCount_) + 1);
-    if (count > 0) launch(gridScatter_, size_t(count));
-    cameraPhase_.merge.setArg(20, bucketStarts_);
-    cameraPhase_.merge.setArg(21, bucketVertices_);
-    cameraPhase_.merge.setArg(22, cellCount_);
-    cameraPhase_.merge.setArg(23, pixelRadiance_);
-}
-
 int Renderer::lightVertexCount()
 {
     int count = 0;
     device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE,
                                     size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int), sizeof count, &count);
     return count;
+}
+
+void Renderer::buildHashGrid()
+{
+    grid_->build(lightVertices_, int(std::min(size_t(lightVertexCount()), vertexCapacity_)), radius_);
+    cameraPhase_.merge.setArg(20, grid_->bucketStarts());
+    cameraPhase_.merge.setArg(21, grid_->bucketVertices());
+    cameraPhase_.merge.setArg(22, grid_->buckets());
+    cameraPhase_.merge.setArg(23, pixelRadiance_);
 }
 
 void Renderer::launch(cl::Kernel& kernel, size_t items)

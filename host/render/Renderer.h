@@ -7,12 +7,14 @@
 #include "../cl/Program.h"
 #include "../image/Image.h"
 #include "Algorithm.h"
+#include "HashGrid.h"
 #include "LightTable.h"
 #include "PathState.h"
 #include "SceneBuffers.h"
 
 #include <cstdint>
 #include <map>
+#include <memory>
 
 namespace wv {
 
@@ -95,10 +97,7 @@ private:
     size_t vertexCapacity_ = 0, vertexBudget_ = 0;
     bool useVC_ = false, useVM_ = false;
     float sceneRadius_ = 0, radius_ = 0;
-    // The hash grid over the light vertices (merging).
-    cl::Kernel gridCount_, scanChunks_, scanTotals_, scanAdd_, gridScatter_;
-    cl::Buffer bucketStarts_, bucketFill_, bucketVertices_, chunkTotals_;
-    uint32_t cellCount_ = 0;
+    std::unique_ptr<HashGrid> grid_; // merging only
     int batch_ = 0;
     int pixels_ = 0;
     int iteration_ = 0;

@@ -1,0 +1,39 @@
+// The hash grid over light vertices for vertex merging, built on the device
+// each iteration (kernels/hash_grid.cl, kernels/hash_grid.h): a counting
+// sort of the vertices into buckets of hashed 2r-cells.
+#pragma once
+
+#include "../cl/DeviceContext.h"
+
+#include <cstdint>
+
+namespace wv {
+
+class HashGrid {
+public:
+    // `program` holds the kernels of hash_grid.cl.
+    HashGrid(DeviceContext& device, const cl::Program& program);
+
+    // Room for `vertices` vertices, with one bucket per vertex on average
+    // (SmallVCM), a power of two.
+    void reserve(size_t vertices);
+
+    // Enqueues the build over vertices[0, count) of a LightVertex buffer for
+    // query radius `radius`.
+    void build(const cl::Buffer& vertices, int count, float radius);
+
+    const cl::Buffer& bucketStarts() const { return bucketStarts_; }     // int[buckets + 1]
+    const cl::Buffer& bucketVertices() const { return bucketVertices_; } // int[vertices]
+    uint32_t buckets() const { return buckets_; }
+
+private:
+    void launch(cl::Kernel& kernel, size_t items);
+
+    DeviceContext& device_;
+    cl::Kernel count_, scanChunks_, scanTotals_, scanAdd_, scatter_;
+    cl::Buffer bucketStarts_, bucketFill_, bucketVertices_, chunkTotals_;
+    uint32_t buckets_ = 0;
+    size_t capacity_ = 0;
+};
+
+} // namespace wv
