@@ -1,0 +1,34 @@
+/* Test-only kernel: a range query through the hash grid, as merge.cl does
+ * it, returning how many vertices lie within r of each query point and the
+ * sum of their indices (so a wrong or duplicated vertex shows). */
+#include "hash_grid.h"
+#include "shared_types.h"
+
+__kernel void grid_query(__global const LightVertex* vertices, __global const int* bucketStarts,
+                         __global const int* bucketVertices, uint buckets, float radius,
+                         __global const float4* queries, int queryCount, __global int* found,
+                         __global long* indexSums)
+{
+    int q = get_global_id(0);
+    if (q >= queryCount)
+        return;
+    float3 x = queries[q].xyz;
+    int b[8];
+    grid_query_buckets(x, 2.0f * radius, buckets, b);
+    int n = 0;
+    long sum = 0;
+    for (int k = 0; k < 8; ++k) {
+        if (b[k] < 0)
+            continue;
+        for (int j = bucketStarts[b[k]]; j < bucketStarts[b[k] + 1]; ++j) {
+            int v = bucketVertices[j];
+            float3 d = vload3(0, vertices[v].position) - x;
+            if (dot(d, d) <= radius * radius) {
+                ++n;
+                sum += v;
+            }
+        }
+    }
+    found[q] = n;
+    indexSums[q] = sum;
+}
