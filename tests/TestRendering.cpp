@@ -59,7 +59,7 @@ Material smoothGlass(float ior)
 }
 
 Render render(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, int width, int height, int iterations,
-              uint32_t seed, int maxPathLength)
+              uint32_t seed, int maxPathLength, float radiusFactor)
 {
     DeviceContext device(info);
     Bvh bvh = buildBvh(scene.vertices);
@@ -70,17 +70,19 @@ Render render(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, i
     s.seed = seed;
     s.maxPathLength = maxPathLength;
     s.wavefront = 1024;
+    s.radiusFactor = radiusFactor;
     Renderer renderer(device, scene, bvh, s);
     for (int i = 0; i < iterations; ++i) renderer.iterate();
     return {renderer.image(), renderer.nonFiniteCount()};
 }
 
 std::vector<Image> renderSeeds(const DeviceInfo& device, const Scene& scene, Algorithm algorithm, int width,
-                               int height, int iterations, int seeds, int maxPathLength)
+                               int height, int iterations, int seeds, int maxPathLength, float radiusFactor)
 {
     std::vector<Image> out;
     for (int s = 1; s <= seeds; ++s)
-        out.push_back(render(device, scene, algorithm, width, height, iterations, uint32_t(s), maxPathLength).image);
+        out.push_back(
+            render(device, scene, algorithm, width, height, iterations, uint32_t(s), maxPathLength, radiusFactor).image);
     return out;
 }
 

@@ -26,12 +26,14 @@ struct Render {
 
 // `iterations` iterations of `algorithm` at width × height with a small
 // wavefront (several rounds of slot regeneration per iteration).
+// radiusFactor: the merge radius (RenderSettings).
 Render render(const DeviceInfo& device, const Scene& scene, Algorithm algorithm, int width, int height,
-              int iterations, uint32_t seed, int maxPathLength = 10);
+              int iterations, uint32_t seed, int maxPathLength = 10, float radiusFactor = 0.003f);
 
 // Renders of one configuration with seeds 1..seeds.
 std::vector<Image> renderSeeds(const DeviceInfo& device, const Scene& scene, Algorithm algorithm, int width,
-                               int height, int iterations, int seeds, int maxPathLength = 10);
+                               int height, int iterations, int seeds, int maxPathLength = 10,
+                               float radiusFactor = 0.003f);
 
 // Compares two estimators of the same image, each given as renders with
 // independent seeds: per tile × tile pixel block, the difference of the mean

@@ -1,0 +1,73 @@
+// Vertex merging (-a ppm, bpm, vcm) against bidirectional path tracing:
+// merging is biased for a finite radius, and the bias vanishes as the radius
+// shrinks; at the radii used here it is far below the noise.
+#include "TestDevices.h"
+#include "TestRendering.h"
+#include "scene/GltfLoader.h"
+
+#include <gtest/gtest.h>
+
+namespace wv {
+namespace {
+
+Scene bundled(const char* name) { return loadGltf(std::string(WAVEVCM_SOURCE_DIR) + "/scenes/" + name + ".gltf"); }
+
+// vcm converges to bpt's image on every bundled scene: per 8×8 block, means
+// over 8 seeds within 5 seed-to-seed standard errors (as in
+// BidirectionalTest), at the default merge radius.
+TEST(VertexMerging, VcmConvergesToBptOnEveryScene)
+{
+    DeviceInfo device = test::devicesUnderTest()[0];
+    const int w = 32, h = 24, iterations = 16, seeds = 8;
+    for (const char* name : {"cornell-box", "cornell-box-point", "cornell-box-background", "cornell-box-directional",
+                             "caustics"}) {
+        SCOPED_TRACE(name);
+        Scene scene = bundled(name);
+        std::vector<Image> vcm = test::renderSeeds(device, scene, Algorithm::VertexConnectionMerging, w, h, iterations, seeds);
+        std::vector<Image> bpt = test::renderSeeds(device, scene, Algorithm::Bidirectional, w, h, iterations, seeds);
+        EXPECT_EQ(test::tilesDisagreeing(vcm, bpt, 8, 5.0), 0);
+    }
+}
+
+// bpm and ppm converge to bpt's image on the Cornell boxes lit by area and
+// background light (ppm merges at the first diffuse vertex, so it needs
+// light paths to reach every surface the camera sees). A radius factor of
+// 0.01 keeps the photon count per merge workable at this image size; the
+// bias it leaves (corners, the edges of shadows) stays within the
+// tolerance, which the test checks per block as above.
+TEST(VertexMerging, PhotonMappingConvergesToBpt)
+{
+    DeviceInfo device = test::devicesUnderTest()[0];
+    const int w = 32, h = 32, iterations = 32, seeds = 8;
+    const float radiusFactor = 0.02f;
+    for (const char* name : {"cornell-box", "cornell-box-background"}) {
+        SCOPED_TRACE(name);
+        Scene scene = bundled(name);
+        std::vector<Image> bpt = test::renderSeeds(device, scene, Algorithm::Bidirectional, w, h, iterations, seeds);
+        for (Algorithm a : {Algorithm::BidirectionalPhotonMapping, Algorithm::ProgressivePhotonMapping}) {
+            SCOPED_TRACE(algorithmName(a));
+            std::vector<Image> pm = test::renderSeeds(device, scene, a, w, h, iterations, seeds, 10, radiusFactor);
+            EXPECT_EQ(test::tilesDisagreeing(pm, bpt, 16, 5.0), 0);
+        }
+    }
+}
+
+// PoCL and rusticl agree on vcm.
+TEST(VertexMerging, SameImageOnEveryDevice)
+{
+    std::vector<DeviceInfo> devices = test::devicesUnderTest();
+    if (devices.size() < 2) GTEST_SKIP() << "only one OpenCL device; install mesa-opencl-icd for rusticl";
+    Scene scene = bundled("cornell-box");
+    std::vector<Image> first = test::renderSeeds(devices[0], scene, Algorithm::VertexConnectionMerging, 32, 32, 8, 3);
+    for (size_t d = 1; d < devices.size(); ++d) {
+        SCOPED_TRACE(devices[0].name + " vs " + devices[d].name);
+        std::vector<Image> other = test::renderSeeds(devices[d], scene, Algorithm::VertexConnectionMerging, 32, 32, 8, 3);
+        EXPECT_EQ(test::tilesDisagreeing(first, other, 8, 5.0), 0);
+        double sameSeed = compareImages(other[0], first[0]).relMse;
+        double otherSeed = compareImages(first[1], first[0]).relMse;
+        EXPECT_LT(sameSeed, 0.25 * otherSeed) << "same-seed images differ about as much as independent ones";
+    }
+}
+
+} // namespace
+} // namespace wv
