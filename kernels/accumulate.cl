@@ -1,24 +1,41 @@
-/* accumulate: fold this iteration's sample of each pixel — what its camera
- * path gathered plus what light tracing splatted onto it — into the running
+/* accumulate: fold this iteration's sample of each pixel into the running
  * mean, mean_i = mean_{i-1} + (x - mean_{i-1}) / i, which keeps the
  * framebuffer in the range of the samples at any iteration count, and clear
- * both for the next iteration. A sample that is NaN or Inf is dropped
- * (counted as zero) and counted; it never reaches the image. */
+ * the iteration's buffers. The sample is the sum of what the technique
+ * families added: unidirectional (emission hits, next-event estimation,
+ * background), vertex connection (connections, light-tracing splats) and
+ * vertex merging; with `techniques` each family also gets a running mean of
+ * its own (three float4 per pixel in familyMeans). A sample that is NaN or
+ * Inf is dropped (counted as zero) and counted; it never reaches the image. */
 #include "queue_ids.h"
 
-__kernel void accumulate(__global float4* pixelRadiance, __global float4* splatRadiance, int pixels,
-                         uint iteration, __global float4* framebuffer, __global int* queueCounters)
+inline float4 take(__global float4* buffer, int pixel)
+{
+    float4 x = buffer[pixel];
+    buffer[pixel] = (float4)(0.0f);
+    return x;
+}
+
+__kernel void accumulate(__global float4* unidirectional, __global float4* connection, __global float4* merging,
+                         __global float4* splats, int pixels, uint iteration, __global float4* framebuffer,
+                         __global int* queueCounters, int techniques, __global float4* familyMeans)
 {
     int pixel = get_global_id(0);
     if (pixel >= pixels)
         return;
-    float4 x = pixelRadiance[pixel] + splatRadiance[pixel];
-    pixelRadiance[pixel] = (float4)(0.0f);
-    splatRadiance[pixel] = (float4)(0.0f);
+    float4 family[3] = {take(unidirectional, pixel), take(connection, pixel) + take(splats, pixel),
+                        take(merging, pixel)};
+    float4 x = family[0] + family[1] + family[2];
     if (!all(isfinite(x.xyz))) {
         atomic_inc(&queueCounters[COUNTER_INDEX(COUNTER_NONFINITE)]);
-        x = (float4)(0.0f);
+        x = family[0] = family[1] = family[2] = (float4)(0.0f);
     }
+    float inv = 1.0f / (float)(iteration + 1);
     float4 mean = framebuffer[pixel];
-    framebuffer[pixel] = mean + (x - mean) / (float)(iteration + 1);
+    framebuffer[pixel] = mean + (x - mean) * inv;
+    if (techniques)
+        for (int f = 0; f < 3; ++f) {
+            float4 m = familyMeans[3 * pixel + f];
+            familyMeans[3 * pixel + f] = m + (family[f] - m) * inv;
+        }
 }

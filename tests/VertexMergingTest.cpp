@@ -3,9 +3,13 @@
 // shrinks; at the radii used here it is far below the noise.
 #include "TestDevices.h"
 #include "TestRendering.h"
+#include "bvh/Bvh.h"
+#include "render/Renderer.h"
 #include "scene/GltfLoader.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace wv {
 namespace {
@@ -50,6 +54,32 @@ TEST(VertexMerging, PhotonMappingConvergesToBpt)
             EXPECT_EQ(test::tilesDisagreeing(pm, bpt, 16, 5.0), 0);
         }
     }
+}
+
+// The per-technique images (--aov techniques) add up to the beauty image,
+// and on the Cornell box each family contributes.
+TEST(VertexMerging, TechniqueImagesSumToTheImage)
+{
+    DeviceInfo info = test::devicesUnderTest()[0];
+    Scene scene = bundled("cornell-box");
+    DeviceContext device(info);
+    Bvh bvh = buildBvh(scene.vertices);
+    RenderSettings s;
+    s.algorithm = Algorithm::VertexConnectionMerging;
+    s.width = 32;
+    s.height = 32;
+    s.techniques = true;
+    Renderer renderer(device, scene, bvh, s);
+    for (int i = 0; i < 4; ++i) renderer.iterate();
+    Image beauty = renderer.image();
+    std::array<Image, 3> families = renderer.techniqueImages();
+    double total[3] = {};
+    for (size_t i = 0; i < beauty.rgb.size(); ++i) {
+        float sum = families[0].rgb[i] + families[1].rgb[i] + families[2].rgb[i];
+        ASSERT_NEAR(sum, beauty.rgb[i], 1e-4f * (1.0f + std::fabs(beauty.rgb[i])));
+        for (int f = 0; f < 3; ++f) total[f] += families[f].rgb[i];
+    }
+    for (int f = 0; f < 3; ++f) EXPECT_GT(total[f], 0.0) << "family " << f << " contributes nothing";
 }
 
 // PoCL and rusticl agree on vcm.

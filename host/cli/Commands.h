@@ -8,7 +8,7 @@ namespace wv {
 struct RenderOptions {
     std::string scene; // empty = the default scene
     std::string output = "render.exr";
-    std::string algorithm = "el";
+    std::string algorithm = "vcm";
     int spp = 0;         // 0 = not given
     double seconds = 0;  // 0 = not given
     std::string device;
@@ -17,6 +17,7 @@ struct RenderOptions {
     unsigned seed = 0;
     int wavefront = 0;
     double radiusFactor = 0.003, radiusAlpha = 0.75;
+    std::string aov; // "techniques" or empty
     std::string statsFile;
     bool quiet = false;
     bool profile = false;

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -61,6 +63,28 @@ private:
     double seconds_, lastDraw_ = -1;
 };
 
+// OUTPUT_STEM.techniques.exr with one layer per technique family, and
+// OUTPUT_STEM.techniques.png showing each pixel's shares of them (luminance;
+// red unidirectional, green vertex connection, blue vertex merging), the
+// "relative contributions" picture of the VCM talk.
+static void writeTechniqueImages(const std::string& output, const std::array<Image, 3>& families)
+{
+    fs::path base = fs::path(output).parent_path() / fs::path(output).stem();
+    writeExrLayers(base.string() + ".techniques.exr", {"unidirectional", "connection", "merging"},
+                   {families[0], families[1], families[2]});
+    Image shares(families[0].width, families[0].height);
+    for (size_t p = 0; p < shares.rgb.size() / 3; ++p) {
+        float lum[3], total = 0;
+        for (int f = 0; f < 3; ++f) {
+            const float* c = &families[f].rgb[3 * p];
+            lum[f] = std::max(0.0f, 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]);
+            total += lum[f];
+        }
+        for (int f = 0; f < 3; ++f) shares.rgb[3 * p + f] = total > 0 ? lum[f] / total : 0.0f;
+    }
+    writeImage(base.string() + ".techniques.png", shares);
+}
+
 static double since(std::chrono::steady_clock::time_point t)
 {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -108,6 +132,7 @@ int runRender(const RenderOptions& o)
     settings.wavefront = o.wavefront;
     settings.radiusFactor = float(o.radiusFactor);
     settings.radiusAlpha = float(o.radiusAlpha);
+    settings.techniques = o.aov == "techniques";
 
     Bvh bvh = buildBvh(scene.vertices);
     std::vector<DeviceInfo> devices = enumerateDevices();
@@ -133,6 +158,7 @@ int runRender(const RenderOptions& o)
     Image image = renderer.image();
     uint64_t nonFinite = renderer.nonFiniteCount();
     writeImage(o.output, image);
+    if (settings.techniques) writeTechniqueImages(o.output, renderer.techniqueImages());
     double samplesPerSecond = double(settings.width) * settings.height * renderer.iterations() / renderSeconds;
     double raysPerSecond = double(renderer.raysTraced()) / renderSeconds;
     if (!o.quiet)

@@ -36,6 +36,10 @@ int main(int argc, char** argv)
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
     render->add_flag("--profile", r.profile, "print the device time spent in each kernel");
+    render->add_option("--aov", r.aov,
+                       "techniques: also write OUTPUT_STEM.techniques.exr (layers unidirectional, connection, "
+                       "merging) and OUTPUT_STEM.techniques.png (red/green/blue = their shares)")
+        ->check(CLI::IsMember({"techniques"}));
 
     app.add_subcommand("devices", "list every OpenCL platform and device");
 

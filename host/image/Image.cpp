@@ -70,6 +70,32 @@ void writeImage(const std::string& path, const Image& image)
     }
 }
 
+void writeExrLayers(const std::string& path, const std::vector<std::string>& names, const std::vector<Image>& images)
+{
+    if (images.empty() || names.size() != images.size()) throw Error(path + ": no layers to write");
+    int w = images[0].width, h = images[0].height, channels = int(3 * images.size());
+    OIIO::ImageSpec spec(w, h, channels, OIIO::TypeDesc::FLOAT);
+    spec.channelnames.clear();
+    for (const std::string& name : names)
+        for (const char* c : {".R", ".G", ".B"}) spec.channelnames.push_back(name + c);
+    std::vector<float> pixels(size_t(w) * h * channels);
+    for (size_t l = 0; l < images.size(); ++l)
+        for (size_t p = 0; p < size_t(w) * h; ++p)
+            for (int c = 0; c < 3; ++c) pixels[p * channels + 3 * l + c] = images[l].rgb[3 * p + c];
+    OIIO::ImageBuf buf(spec, pixels.data());
+    std::filesystem::path target(path);
+    std::filesystem::path tmp = target.parent_path() / ("." + target.stem().string() + ".partial" +
+                                                        std::to_string(::getpid()) + target.extension().string());
+    if (!buf.write(tmp.string(), OIIO::TypeDesc::FLOAT, "openexr")) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw Error(path + ": cannot write image: " + buf.geterror());
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) throw Error(path + ": cannot write image: " + ec.message());
+}
+
 Image readImage(const std::string& path)
 {
     if (!std::filesystem::exists(path)) throw Error(path + ": no such file");

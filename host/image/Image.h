@@ -20,6 +20,10 @@ struct Image {
 // so a failed or interrupted write never leaves a partial file.
 void writeImage(const std::string& path, const Image& image);
 
+// One OpenEXR file (32-bit float) with each image as a layer of channels
+// "<name>.R", "<name>.G", "<name>.B". Same temporary-name rule as writeImage.
+void writeExrLayers(const std::string& path, const std::vector<std::string>& names, const std::vector<Image>& images);
+
 // Any format OpenImageIO reads; the first three channels (grey is replicated).
 Image readImage(const std::string& path);
 

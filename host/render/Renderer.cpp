@@ -65,10 +65,14 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     camera_ = uploadBuffer(device, &camera, sizeof camera, "the camera");
     size_t imageBytes = size_t(pixels_) * 16;
     pixelRadiance_ = deviceBuffer(device, imageBytes, "the iteration's radiance");
+    connectionRadiance_ = deviceBuffer(device, imageBytes, "the iteration's radiance");
+    mergingRadiance_ = deviceBuffer(device, imageBytes, "the iteration's radiance");
+    familyMeans_ = deviceBuffer(device, settings.techniques ? 3 * imageBytes : 16, "the technique images");
     splatRadiance_ = deviceBuffer(device, imageBytes, "the light-tracing splats");
     framebuffer_ = deviceBuffer(device, imageBytes, "the framebuffer");
-    for (cl::Buffer* b : {&pixelRadiance_, &splatRadiance_, &framebuffer_})
+    for (cl::Buffer* b : {&pixelRadiance_, &connectionRadiance_, &mergingRadiance_, &splatRadiance_, &framebuffer_})
         device.queue.enqueueFillBuffer(*b, 0.0f, 0, imageBytes);
+    if (settings.techniques) device.queue.enqueueFillBuffer(familyMeans_, 0.0f, 0, 3 * imageBytes);
     device.queue.enqueueFillBuffer(paths_.counters, 0, 0, kCounterBytes);
 
     std::string source = expandKernelSources(findKernelDir(), kernelFiles(algorithm));
@@ -133,7 +137,8 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
         c.hasConnect = true;
     }
     accumulate_ = kernel("accumulate");
-    setArgs(accumulate_, pixelRadiance_, splatRadiance_, pixels_, 0u, framebuffer_, p.counters);
+    setArgs(accumulate_, pixelRadiance_, connectionRadiance_, mergingRadiance_, splatRadiance_, pixels_, 0u,
+            framebuffer_, p.counters, int(settings.techniques), familyMeans_);
     if (!bidirectional_) return;
 
     // Light sub-paths, and the light vertices camera paths connect to.
@@ -172,7 +177,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
         setArgs(c.connectVertices, r, p.queueItems, p.counters, s.nodes, s.triVertices, s.triNormals, s.triMaterials,
                 s.materials, settings.maxPathLength, vmWeightFactor, p.rayDirections, p.hitT, p.hitTriangle,
                 p.hitBary, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, lightVertices_, 0, lightPathHead_,
-                pixelRadiance_);
+                connectionRadiance_);
         c.hasConnectVertices = true;
     }
     if (useVM_) {
@@ -188,7 +193,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
 
 size_t Renderer::deviceBytes() const
 {
-    return sceneBuffers_.bytes + paths_.bytes + size_t(pixels_) * 48 +
+    return sceneBuffers_.bytes + paths_.bytes + size_t(pixels_) * (settings_.techniques ? 128 : 80) +
            (bidirectional_ ? vertexCapacity_ * sizeof(LightVertex) + size_t(pixels_) * sizeof(int) : 0);
 }
 
@@ -250,7 +255,7 @@ void Renderer::buildHashGrid()
     cameraPhase_.merge.setArg(20, grid_->bucketStarts());
     cameraPhase_.merge.setArg(21, grid_->bucketVertices());
     cameraPhase_.merge.setArg(22, grid_->buckets());
-    cameraPhase_.merge.setArg(23, pixelRadiance_);
+    cameraPhase_.merge.setArg(23, mergingRadiance_);
 }
 
 void Renderer::launch(cl::Kernel& kernel, size_t items)
@@ -380,7 +385,7 @@ void Renderer::iterate()
             first += count;
         }
     }
-    accumulate_.setArg(3, uint32_t(iteration_));
+    accumulate_.setArg(5, uint32_t(iteration_));
     launch(accumulate_, size_t(pixels_));
     device_.queue.finish();
     if (profiling_) collectProfile();
@@ -395,6 +400,20 @@ void Renderer::collectProfile()
         kernelSeconds_[name] += double(end - start) * 1e-9;
     }
     pending_.clear();
+}
+
+std::array<Image, 3> Renderer::techniqueImages()
+{
+    std::array<Image, 3> out;
+    if (!settings_.techniques) return out;
+    std::vector<float> rgba(size_t(pixels_) * 12);
+    device_.queue.enqueueReadBuffer(familyMeans_, CL_TRUE, 0, rgba.size() * sizeof(float), rgba.data());
+    for (int f = 0; f < 3; ++f) {
+        out[f] = Image(settings_.width, settings_.height);
+        for (int p = 0; p < pixels_; ++p)
+            for (int c = 0; c < 3; ++c) out[f].rgb[3 * size_t(p) + c] = rgba[(3 * size_t(p) + f) * 4 + c];
+    }
+    return out;
 }
 
 Image Renderer::image()

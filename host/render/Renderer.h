@@ -12,6 +12,7 @@
 #include "PathState.h"
 #include "SceneBuffers.h"
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -31,6 +32,8 @@ struct RenderSettings {
     // r_i = r_1 · i^((α − 1)/2) in iteration i = 1, 2, ...
     float radiusFactor = 0.003f;
     float radiusAlpha = 0.75f;
+    // Also keep an image per technique family (techniqueImages()).
+    bool techniques = false;
 };
 
 class Renderer {
@@ -46,6 +49,11 @@ public:
     int iterations() const { return iteration_; }
     uint64_t raysTraced() const { return rays_; } // extended and shadow rays, all iterations
     Image image();
+    // The running means of the unidirectional (emission hits, next-event
+    // estimation, background), vertex connection (connections and light
+    // tracing) and vertex merging contributions; they sum to image(). Empty
+    // images unless RenderSettings::techniques.
+    std::array<Image, 3> techniqueImages();
     uint64_t nonFiniteCount();
     const ProgramBuild& programBuild() const { return build_; }
     const LightTable& lights() const { return lights_; }
@@ -89,7 +97,11 @@ private:
     PathState paths_;
     ProgramBuild build_;
     cl::Buffer camera_;
-    cl::Buffer pixelRadiance_; // float4 per pixel: this iteration's camera sample
+    // float4 per pixel: this iteration's sample, by technique family.
+    cl::Buffer pixelRadiance_;      // unidirectional
+    cl::Buffer connectionRadiance_; // vertex connection (camera side)
+    cl::Buffer mergingRadiance_;    // vertex merging
+    cl::Buffer familyMeans_;        // 3 float4 per pixel: running means by family (techniques only)
     cl::Buffer splatRadiance_; // float4 per pixel: this iteration's light-tracing splats
     cl::Buffer framebuffer_;   // float4 per pixel: running mean
     cl::Buffer lightVertices_; // LightVertex[vertexCapacity_]
