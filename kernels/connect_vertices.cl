@@ -75,10 +75,9 @@ __kernel void connect_vertices(int capacity, __global const int* queueItems, __g
         lightRev *= contLight;
         float cosCamera = fabs(dL.z), cosLight = fabs(backL.z);
         float geometry = cosCamera * cosLight / dist2;
-        /* The other techniques' pdfs relative to this one (eqs. 40, 41). */
-        float wLight = cameraFwd * cosLight / dist2 * (vmWeightFactor + lv->dVCM + lv->dVC * lightRev);
-        float wCamera = lightFwd * cosCamera / dist2 * (vmWeightFactor + mis.dVCM + mis.dVC * cameraRev);
-        float w = 1.0f / (wLight + 1.0f + wCamera);
+        PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
+        float w = mis_weight_connection(lightMis, mis, cameraFwd * cosLight / dist2, lightFwd * cosCamera / dist2,
+                                        lightRev, cameraRev, vmWeightFactor);
         float3 c = (w * geometry) * beta * fCamera * fLight * vload3(0, lv->throughput);
         Hit occluder;
         if (!trace_ray(nodes, triVertices,

@@ -28,7 +28,7 @@ __kernel void escaped(int capacity, int freeQueue, __global int* queueItems, __g
             PathMis mis = load_mis(pathMis, slot);
             float directPdfW, emissionPdfW;
             background_hit_pdfs(bg->pmf, scene->radius, &directPdfW, &emissionPdfW);
-            w = 1.0f / (1.0f + directPdfW * mis.dVCM + emissionPdfW * mis.dVC);
+            w = mis_weight_emission_hit(mis, directPdfW, emissionPdfW);
         }
 #else
         float prevPdf = pathPrevPdf[slot];

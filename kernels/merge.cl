@@ -62,10 +62,8 @@ __kernel void merge(int capacity, __global const int* queueItems, __global const
                 continue;
             float w = 1.0f;
 #ifndef PPM
-            float cameraDirPdfW = pdfFwd * contCamera, cameraRevPdfW = pdfRev * lv->continuation;
-            float wLight = lv->dVCM * vcWeightFactor + lv->dVM * cameraDirPdfW;
-            float wCamera = mis.dVCM * vcWeightFactor + mis.dVM * cameraRevPdfW;
-            w = 1.0f / (wLight + 1.0f + wCamera);
+            PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
+            w = mis_weight_merge(lightMis, mis, pdfFwd * contCamera, pdfRev * lv->continuation, vcWeightFactor);
 #endif
             sum += w * f * vload3(0, lv->throughput);
         }

@@ -76,4 +76,66 @@ inline void mis_after_scatter(PathMis* m, bool delta, float cosOut, float pdfW, 
     m->dVCM = 1.0f / pdfW;
 }
 
+/* The weights. Each is 1 / (1 + Σ p_other / p_this) over the techniques
+ * that could have sampled the same path, read from the MIS quantities of the
+ * sub-path vertices that this technique joins. Densities carry the
+ * continuation probability of Russian roulette wherever they involve a
+ * scattering event. */
+
+/* A camera path (state `camera`, at the hit) finding an emitter whose
+ * next-event density (area, or solid angle for the background) is
+ * directPdf and whose emission density for the ray is emissionPdfW
+ * (eqs. 42-43). */
+inline float mis_weight_emission_hit(PathMis camera, float directPdf, float emissionPdfW)
+{
+    return 1.0f / (1.0f + directPdf * camera.dVCM + emissionPdfW * camera.dVC);
+}
+
+/* Next-event estimation from a camera vertex: bsdfDirPdfW is the density of
+ * the BSDF sampling the light's direction (0 for delta lights), bsdfRevPdfW
+ * that of the reverse direction; directPdfW, emissionPdfW and cosAtLight as
+ * in LightSample (eqs. 44-45). */
+inline float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdfRevPdfW, float directPdfW,
+                            float emissionPdfW, float cosToLight, float cosAtLight, float vmWeightFactor)
+{
+    float wLight = bsdfDirPdfW / directPdfW;
+    float wCamera = emissionPdfW * cosToLight / (directPdfW * cosAtLight) *
+                    (vmWeightFactor + camera.dVCM + camera.dVC * bsdfRevPdfW);
+    return 1.0f / (wLight + 1.0f + wCamera);
+}
+
+/* A light vertex connected to the camera (t = 1): cameraPdfA is the camera's
+ * density of sampling the vertex (per unit area), lightPaths the light paths
+ * per iteration, bsdfRevPdfW the light vertex's density of sampling its
+ * incoming direction from the camera's (eqs. 46-47). */
+inline float mis_weight_light_to_camera(PathMis light, float cameraPdfA, float lightPaths, float bsdfRevPdfW,
+                                        float vmWeightFactor)
+{
+    float wLight = cameraPdfA / lightPaths * (vmWeightFactor + light.dVCM + light.dVC * bsdfRevPdfW);
+    return 1.0f / (wLight + 1.0f);
+}
+
+/* A camera vertex connected to a light vertex: cameraDirPdfA is the camera
+ * vertex's BSDF density of the light vertex (area), lightDirPdfA the light
+ * vertex's of the camera vertex; the reverse densities are solid angle
+ * (eqs. 40-41, 37). */
+inline float mis_weight_connection(PathMis light, PathMis camera, float cameraDirPdfA, float lightDirPdfA,
+                                   float lightRevPdfW, float cameraRevPdfW, float vmWeightFactor)
+{
+    float wLight = cameraDirPdfA * (vmWeightFactor + light.dVCM + light.dVC * lightRevPdfW);
+    float wCamera = lightDirPdfA * (vmWeightFactor + camera.dVCM + camera.dVC * cameraRevPdfW);
+    return 1.0f / (wLight + 1.0f + wCamera);
+}
+
+/* A camera vertex merged with a light vertex: cameraDirPdfW is the camera
+ * BSDF's density of the light vertex's incoming direction, cameraRevPdfW
+ * the reverse (eqs. 37-39). */
+inline float mis_weight_merge(PathMis light, PathMis camera, float cameraDirPdfW, float cameraRevPdfW,
+                              float vcWeightFactor)
+{
+    float wLight = light.dVCM * vcWeightFactor + light.dVM * cameraDirPdfW;
+    float wCamera = camera.dVCM * vcWeightFactor + camera.dVM * cameraRevPdfW;
+    return 1.0f / (wLight + 1.0f + wCamera);
+}
+
 #endif

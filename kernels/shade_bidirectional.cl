@@ -60,7 +60,7 @@ inline CameraHitResult shade_camera_hit(
         if (depth > 1) {
             float directPdfA, emissionPdfW;
             triangle_hit_pdfs(lights[light].pmf, lights[light].area, dot(wo, hit.ngF), &directPdfA, &emissionPdfW);
-            w = 1.0f / (1.0f + directPdfA * mis.dVCM + emissionPdfW * mis.dVC);
+            w = mis_weight_emission_hit(mis, directPdfA, emissionPdfW);
         }
 #endif
         L += w * beta * vload3(0, lights[light].emission);
@@ -88,10 +88,8 @@ inline CameraHitResult shade_camera_hit(
                     float cosToLight = fabs(wiL.z);
                     float bsdfDirPdfW = ls.delta ? 0.0f : pdfFwd * cont;
                     float bsdfRevPdfW = pdfRev * cont;
-                    float wLight = bsdfDirPdfW / ls.directPdfW;
-                    float wCamera = ls.emissionPdfW * cosToLight / (ls.directPdfW * ls.cosAtLight) *
-                                    (vmWeightFactor + mis.dVCM + mis.dVC * bsdfRevPdfW);
-                    float w = 1.0f / (wLight + 1.0f + wCamera);
+                    float w = mis_weight_nee(mis, bsdfDirPdfW, bsdfRevPdfW, ls.directPdfW, ls.emissionPdfW,
+                                             cosToLight, ls.cosAtLight, vmWeightFactor);
                     float3 contribution = beta * f * ls.radiance * (w * cosToLight / ls.pdf);
                     store_ray(shadowOrigins, shadowDirections, slot,
                               shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));

@@ -89,8 +89,7 @@ inline LightHitResult shade_light_hit(
                 float cameraPdfA = camera_pdf_w(camera, -toCamera) * fabs(toCameraL.z) / dist2;
                 float w = 1.0f; /* lt: the only technique for these paths */
 #ifndef LIGHT_TRACING
-                float wLightT = cameraPdfA / lightTracePaths * (vmWeightFactor + mis.dVCM + mis.dVC * pdfRev * cont);
-                w = 1.0f / (wLightT + 1.0f);
+                w = mis_weight_light_to_camera(mis, cameraPdfA, lightTracePaths, pdfRev * cont, vmWeightFactor);
 #endif
                 float3 contribution = w * beta * f * (cameraPdfA / lightTracePaths);
                 if (max_component(contribution) > 0.0f) {
