@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace wv {
 namespace {
@@ -80,6 +81,52 @@ TEST(VertexMerging, TechniqueImagesSumToTheImage)
         for (int f = 0; f < 3; ++f) total[f] += families[f].rgb[i];
     }
     for (int f = 0; f < 3; ++f) EXPECT_GT(total[f], 0.0) << "family " << f << " contributes nothing";
+}
+
+// The order of convergence on the caustics scene: the error against a long
+// vcm render (another seed; bpt cannot render the caustics seen through
+// glass) for N = 4 … 256 iterations, as sqrt(relMSE) averaged over two seeds
+// — relative, because the pixels that partly see the tiny light (radiance
+// 9000) have a variance that would dominate an RMSE at any N — fitted on
+// log-log after removing the reference's own expected error σ²/N_ref, with
+// σ² estimated from the error at N = 4 (as in
+// PathTracer.ErrorFallsAsInverseSquareRootOfSamples). vcm: about −0.5, the
+// rate of its unbiased techniques; ppm: about −α/2 = −0.375 (variance
+// O(1/(N r²)) with r² ∝ N^(α−1); its bias O(r²) stays below the noise at
+// these N), the order the seed calls −0.33. Tolerances ±0.12: the slope of
+// four points of a noisy estimate.
+TEST(VertexMerging, OrderOfConvergenceOnCaustics)
+{
+    DeviceInfo device = test::devicesUnderTest()[0];
+    Scene scene = bundled("caustics");
+    const int w = 32, h = 18, referenceIterations = 2048;
+    Image reference =
+        test::render(device, scene, Algorithm::VertexConnectionMerging, w, h, referenceIterations, 1000).image;
+    auto slope = [&](Algorithm a) {
+        std::vector<std::pair<int, double>> mse;
+        for (int n : {4, 16, 64, 256}) {
+            double sum = 0;
+            for (uint32_t seed : {1u, 2u}) {
+                sum += compareImages(test::render(device, scene, a, w, h, n, seed).image, reference).relMse / 2;
+            }
+            mse.push_back({n, sum});
+        }
+        double referenceMse = mse.front().second * mse.front().first / referenceIterations;
+        double lx = 0, ly = 0, sxy = 0, sxx = 0;
+        std::vector<double> xs, ys;
+        for (auto [n, e] : mse) {
+            xs.push_back(std::log(double(n)));
+            ys.push_back(0.5 * std::log(std::max(e - referenceMse, 1e-30)));
+            std::printf("[ %s N = %3d ] relMSE %.5f\n", algorithmName(a).c_str(), n, e);
+        }
+        for (size_t i = 0; i < xs.size(); ++i) { lx += xs[i] / xs.size(); ly += ys[i] / ys.size(); }
+        for (size_t i = 0; i < xs.size(); ++i) { sxy += (xs[i] - lx) * (ys[i] - ly); sxx += (xs[i] - lx) * (xs[i] - lx); }
+        return sxy / sxx;
+    };
+    double vcm = slope(Algorithm::VertexConnectionMerging), ppm = slope(Algorithm::ProgressivePhotonMapping);
+    std::printf("[ slopes ] vcm %.3f, ppm %.3f\n", vcm, ppm);
+    EXPECT_NEAR(vcm, -0.5, 0.12);
+    EXPECT_NEAR(ppm, -0.375, 0.12);
 }
 
 // PoCL and rusticl agree on vcm.
