@@ -12,6 +12,7 @@ packages=(
   mesa-opencl-icd                                          # rusticl: the second implementation the tests compare with
   libopenimageio-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libbenchmark-dev
+  python3-matplotlib python3-numpy                         # scripts/convergence.py
 )
 missing=()
 for p in "${packages[@]}"; do

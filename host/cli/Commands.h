@@ -18,6 +18,7 @@ struct RenderOptions {
     int wavefront = 0;
     double radiusFactor = 0.003, radiusAlpha = 0.75;
     std::string aov; // "techniques" or empty
+    std::string reference, errorLog; // --reference REF --error-log LOG.csv
     std::string statsFile;
     bool quiet = false;
     bool profile = false;

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <fstream>
 #include <unistd.h>
 
@@ -61,6 +62,30 @@ private:
     bool enabled_, drawn_ = false;
     int iterations_;
     double seconds_, lastDraw_ = -1;
+};
+
+// The --error-log CSV: one row per iteration.
+class ErrorLog {
+public:
+    ErrorLog(const std::string& path, Image reference, const std::string& referencePath)
+        : path_(path), reference_(std::move(reference)), out_(path)
+    {
+        if (!out_) throw Error(path + ": cannot write");
+        out_ << "# reference: " << referencePath << "\nseconds,iterations,rmse,relmse\n";
+    }
+    int width() const { return reference_.width; }
+    int height() const { return reference_.height; }
+    void add(double seconds, int iterations, const Image& image)
+    {
+        ImageDifference d = compareImages(image, reference_);
+        out_ << seconds << "," << iterations << "," << d.rmse << "," << d.relMse << "\n";
+        if (!out_) throw Error(path_ + ": cannot write");
+    }
+
+private:
+    std::string path_;
+    Image reference_;
+    std::ofstream out_;
 };
 
 // OUTPUT_STEM.techniques.exr with one layer per technique family, and
@@ -127,6 +152,15 @@ int runRender(const RenderOptions& o)
     Scene scene = loadGltf(scenePath);
     for (const std::string& w : scene.warnings) std::fprintf(stderr, "wavevcm: warning: %s\n", w.c_str());
     resolution(o, scene, &settings.width, &settings.height);
+    std::unique_ptr<ErrorLog> errorLog;
+    if (!o.errorLog.empty()) {
+        if (o.reference.empty()) throw Error("--error-log needs --reference");
+        errorLog = std::make_unique<ErrorLog>(o.errorLog, readImage(o.reference), o.reference);
+        if (errorLog->width() != settings.width || errorLog->height() != settings.height)
+            throw Error(o.reference + " is " + std::to_string(errorLog->width()) + "x" +
+                        std::to_string(errorLog->height()) + " but the render is " + std::to_string(settings.width) +
+                        "x" + std::to_string(settings.height) + " (set --width/--height)");
+    }
     settings.maxPathLength = o.maxPathLength;
     settings.seed = o.seed;
     settings.wavefront = o.wavefront;
@@ -147,12 +181,16 @@ int runRender(const RenderOptions& o)
 
     int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
     ProgressBar progress(!o.quiet && ::isatty(STDERR_FILENO), spp, o.seconds);
-    auto renderStart = std::chrono::steady_clock::now();
+    // Render time excludes the error log's work (reading the image back and
+    // comparing it), so the log's times are what the render alone took.
+    double renderSeconds = 0;
     do {
+        auto start = std::chrono::steady_clock::now();
         renderer.iterate();
-        progress.update(renderer.iterations(), since(renderStart), double(settings.width) * settings.height);
-    } while ((spp == 0 || renderer.iterations() < spp) && (o.seconds == 0 || since(renderStart) < o.seconds));
-    double renderSeconds = since(renderStart);
+        renderSeconds += since(start);
+        if (errorLog) errorLog->add(renderSeconds, renderer.iterations(), renderer.image());
+        progress.update(renderer.iterations(), renderSeconds, double(settings.width) * settings.height);
+    } while ((spp == 0 || renderer.iterations() < spp) && (o.seconds == 0 || renderSeconds < o.seconds));
     progress.finish();
 
     Image image = renderer.image();

@@ -36,6 +36,10 @@ int main(int argc, char** argv)
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
     render->add_flag("--profile", r.profile, "print the device time spent in each kernel");
+    render->add_option("--reference", r.reference, "reference image for --error-log (same resolution)");
+    render->add_option("--error-log", r.errorLog,
+                       "after every iteration write seconds, iterations, RMSE and relMSE against --reference "
+                       "to this CSV file (the error computation is excluded from the timing)");
     render->add_option("--aov", r.aov,
                        "techniques: also write OUTPUT_STEM.techniques.exr (layers unidirectional, connection, "
                        "merging) and OUTPUT_STEM.techniques.png (red/green/blue = their shares)")
