@@ -204,10 +204,10 @@ int runRender(const RenderOptions& o)
                      renderer.iterations(), renderSeconds, samplesPerSecond, raysPerSecond, o.output.c_str());
     if (o.profile) {
         double total = 0;
-        for (const auto& [name, seconds] : renderer.kernelSeconds()) total += seconds;
-        for (const auto& [name, seconds] : renderer.kernelSeconds())
-            std::fprintf(stderr, "wavevcm: kernel %-16s %8.3f s  %5.1f %%\n", name.c_str(), seconds,
-                         100 * seconds / total);
+        for (const auto& [name, stats] : renderer.kernelStats()) total += stats.seconds;
+        for (const auto& [name, stats] : renderer.kernelStats())
+            std::fprintf(stderr, "wavevcm: kernel %-20s %8.3f s  %5.1f %%  %10.3g items/s\n", name.c_str(),
+                         stats.seconds, 100 * stats.seconds / total, double(stats.items) / stats.seconds);
     }
     if (nonFinite > 0)
         std::fprintf(stderr, "wavevcm: warning: %llu samples were NaN or Inf and were dropped\n",

@@ -264,7 +264,7 @@ void Renderer::launch(cl::Kernel& kernel, size_t items)
         cl::Event event;
         device_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(items, localSize_)),
                                            cl::NDRange(localSize_), nullptr, profiling_ ? &event : nullptr);
-        if (profiling_) pending_.push_back({kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(), event});
+        if (profiling_) pending_.push_back({kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(), items, event});
     } catch (const cl::Error& e) {
         throw Error("launching kernel " + kernel.getInfo<CL_KERNEL_FUNCTION_NAME>() + " on " + device_.info.name +
                     " failed: " + clErrorName(e.err()));
@@ -394,10 +394,12 @@ void Renderer::iterate()
 
 void Renderer::collectProfile()
 {
-    for (auto& [name, event] : pending_) {
-        cl_ulong start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
-        cl_ulong end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
-        kernelSeconds_[name] += double(end - start) * 1e-9;
+    for (PendingLaunch& launch : pending_) {
+        cl_ulong start = launch.event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+        cl_ulong end = launch.event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+        KernelStats& stats = kernelStats_[launch.kernel];
+        stats.seconds += double(end - start) * 1e-9;
+        stats.items += launch.items;
     }
     pending_.clear();
 }

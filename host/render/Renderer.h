@@ -65,9 +65,15 @@ public:
     // The merge radius of the last iteration (0 without merging).
     float mergeRadius() const { return radius_; }
 
-    // Device time per kernel so far, in seconds (needs a profiling queue,
-    // see DeviceContext; empty otherwise).
-    const std::map<std::string, double>& kernelSeconds() const { return kernelSeconds_; }
+    // Per kernel so far: device time (s) and work-items launched (queue
+    // sizes: rays for extend and connect, path slots for generate and the
+    // shade, connect and merge kernels, pixels for accumulate). Needs a
+    // profiling queue (see DeviceContext); empty otherwise.
+    struct KernelStats {
+        double seconds = 0;
+        uint64_t items = 0;
+    };
+    const std::map<std::string, KernelStats>& kernelStats() const { return kernelStats_; }
 
     // The kernel files of the program for an algorithm.
     static std::vector<std::string> kernelFiles(Algorithm algorithm);
@@ -118,8 +124,13 @@ private:
     Phase cameraPhase_, lightPhase_;
     cl::Kernel accumulate_;
     bool profiling_ = false;
-    std::vector<std::pair<std::string, cl::Event>> pending_;
-    std::map<std::string, double> kernelSeconds_;
+    struct PendingLaunch {
+        std::string kernel;
+        size_t items;
+        cl::Event event;
+    };
+    std::vector<PendingLaunch> pending_;
+    std::map<std::string, KernelStats> kernelStats_;
 };
 
 // Default wavefront capacity: ~256K paths on a CPU, 2M on a GPU, at most what

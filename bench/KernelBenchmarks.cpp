@@ -1,0 +1,261 @@
+// Kernel micro-benchmarks (Google Benchmark). Each reports the natural rate
+// of one kernel on one scene and device as items_per_second:
+//   Extend/Connect   rays/s, on coherent camera rays and on incoherent rays
+//                    (random origins inside the scene, random directions);
+//   Kernel/<name>    the render kernels inside real iterations, from OpenCL
+//                    profiling events: path slots/s for generate and the
+//                    shade, connect and merge kernels, pixels/s for accumulate;
+//   HashGridBuild    light vertices/s;
+//   BvhBuild         triangles/s for generated meshes up to 4M triangles;
+//   ProgramBuild     kernel build time (from the cache unless the caches are
+//                    off: WAVEVCM_CACHE_DIR=off POCL_KERNEL_CACHE=0).
+// The first argument of the ray and kernel benchmarks is the wavefront size.
+// Scene: $WAVEVCM_BENCH_SCENE (default scenes/cornell-box.gltf); device:
+// $WAVEVCM_BENCH_DEVICE (as `render --device`). Counters: bytes_per_path
+// and bytes_per_light_vertex of device memory.
+#include "bvh/Bvh.h"
+#include "cl/Program.h"
+#include "render/HashGrid.h"
+#include "render/Renderer.h"
+#include "scene/GltfLoader.h"
+
+#include "../kernels/queue_ids.h"
+
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <random>
+
+namespace wv {
+namespace {
+
+std::string env(const char* name, const std::string& fallback)
+{
+    const char* v = std::getenv(name);
+    return v && *v ? v : fallback;
+}
+
+// The scene, its BVH and the device, loaded once for all benchmarks.
+struct Fixture {
+    Scene scene;
+    Bvh bvh;
+    std::vector<DeviceInfo> devices;
+    DeviceInfo device;
+
+    Fixture()
+        : scene(loadGltf(env("WAVEVCM_BENCH_SCENE", std::string(WAVEVCM_SOURCE_DIR) + "/scenes/cornell-box.gltf"))),
+          bvh(buildBvh(scene.vertices)), devices(enumerateDevices()),
+          device(selectDevice(devices, env("WAVEVCM_BENCH_DEVICE", "")))
+    {
+    }
+    static Fixture& get()
+    {
+        static Fixture f;
+        return f;
+    }
+};
+
+using Float4 = std::array<float, 4>;
+
+// Rays for the ray benchmarks: coherent camera rays over the image, or
+// incoherent rays from random points in the scene's bounds.
+void makeRays(const Scene& scene, size_t n, bool coherent, bool shadow, std::vector<Float4>* origins,
+              std::vector<Float4>* directions)
+{
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0, 1);
+    Bounds b = scene.bounds();
+    int side = int(std::ceil(std::sqrt(double(n))));
+    Camera cam = makeCamera(scene.camera, side, side);
+    auto v3 = [](const float* f) { return Vec3(f[0], f[1], f[2]); };
+    for (size_t i = 0; i < n; ++i) {
+        Vec3 o, d;
+        if (coherent) {
+            float sx = 2 * (float(i % side) + 0.5f) / side - 1, sy = 1 - 2 * (float(i / side) + 0.5f) / side;
+            o = v3(cam.position);
+            d = normalize(v3(cam.forward) + v3(cam.right) * sx + v3(cam.up) * sy);
+        } else {
+            o = b.lo + Vec3(b.extent().x * u(rng), b.extent().y * u(rng), b.extent().z * u(rng));
+            float z = 1 - 2 * u(rng), r = std::sqrt(std::max(0.0f, 1 - z * z)), phi = 2 * float(M_PI) * u(rng);
+            d = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+        }
+        float tMax = shadow ? length(b.extent()) * u(rng) : INFINITY;
+        origins->push_back({o.x, o.y, o.z, 0});
+        directions->push_back({d.x, d.y, d.z, tMax});
+    }
+}
+
+// extend (closest hit) or the any-hit traversal of connect, over one
+// wavefront of rays in the ray queue.
+void rays(benchmark::State& state, bool coherent, bool anyHit)
+{
+    Fixture& f = Fixture::get();
+    DeviceContext device(f.device);
+    LightTable lights = buildLightTable(f.scene, f.bvh);
+    SceneBuffers scene(device, f.scene, f.bvh, lights);
+    size_t n = size_t(state.range(0));
+    std::vector<Float4> origins, directions;
+    makeRays(f.scene, n, coherent, anyHit, &origins, &directions);
+    std::string source = expandKernelSources(findKernelDir(), {"extend.cl", "connect.cl"});
+    cl::Program program = buildProgram(device.context, f.device, source, "-cl-std=CL1.2").program;
+    cl::Buffer o = uploadBuffer(device, origins.data(), n * 16, "origins");
+    cl::Buffer d = uploadBuffer(device, directions.data(), n * 16, "directions");
+    std::vector<int> items(QUEUE_COUNT * n), counters(COUNTER_INDEX(COUNTER_COUNT));
+    int queue = anyHit ? QUEUE_SHADOW : QUEUE_RAYS(0);
+    for (size_t i = 0; i < n; ++i) items[queue * n + i] = int(i);
+    counters[COUNTER_INDEX(queue)] = int(n);
+    cl::Buffer itemBuffer = uploadBuffer(device, items.data(), items.size() * 4, "queues");
+    cl::Buffer counterBuffer = deviceBuffer(device, counters.size() * 4, "counters");
+    cl::Buffer t = deviceBuffer(device, n * 16, "results"), tri = deviceBuffer(device, n * 4, "triangles"),
+               bary = deviceBuffer(device, n * 8, "barycentrics"), contribution = deviceBuffer(device, n * 16, "c"),
+               pixels = deviceBuffer(device, n * 4, "pixels"), radiance = deviceBuffer(device, n * 16, "radiance");
+    device.queue.enqueueFillBuffer(pixels, 0, 0, n * 4);
+    cl::Kernel k(program, anyHit ? "connect" : "extend");
+    if (anyHit) {
+        int arg = 0;
+        k.setArg(arg++, int(n));
+        k.setArg(arg++, itemBuffer);
+        k.setArg(arg++, counterBuffer);
+        k.setArg(arg++, scene.nodes);
+        k.setArg(arg++, scene.triVertices);
+        k.setArg(arg++, o);
+        k.setArg(arg++, d);
+        k.setArg(arg++, contribution);
+        k.setArg(arg++, pixels);
+        k.setArg(arg++, radiance);
+    } else {
+        int arg = 0;
+        k.setArg(arg++, int(n));
+        k.setArg(arg++, int(QUEUE_RAYS(0)));
+        k.setArg(arg++, itemBuffer);
+        k.setArg(arg++, counterBuffer);
+        k.setArg(arg++, scene.nodes);
+        k.setArg(arg++, scene.triVertices);
+        k.setArg(arg++, o);
+        k.setArg(arg++, d);
+        k.setArg(arg++, t);
+        k.setArg(arg++, tri);
+        k.setArg(arg++, bary);
+    }
+    size_t global = (n + 63) / 64 * 64;
+    for (auto _ : state) {
+        // extend pushes to the hit/escaped queues: reset their counters.
+        device.queue.enqueueWriteBuffer(counterBuffer, CL_FALSE, 0, counters.size() * 4, counters.data());
+        auto start = std::chrono::steady_clock::now();
+        device.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(64));
+        device.queue.finish();
+        state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(n));
+}
+
+void BM_ExtendCoherent(benchmark::State& s) { rays(s, true, false); }
+void BM_ExtendIncoherent(benchmark::State& s) { rays(s, false, false); }
+void BM_ConnectCoherent(benchmark::State& s) { rays(s, true, true); }
+void BM_ConnectIncoherent(benchmark::State& s) { rays(s, false, true); }
+BENCHMARK(BM_ExtendCoherent)->Arg(1 << 16)->Arg(1 << 18)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ExtendIncoherent)->Arg(1 << 16)->Arg(1 << 18)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ConnectCoherent)->Arg(1 << 16)->Arg(1 << 18)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ConnectIncoherent)->Arg(1 << 16)->Arg(1 << 18)->UseManualTime()->Unit(benchmark::kMillisecond);
+
+// One render kernel inside real iterations of `algorithm` (128×128), timed
+// by OpenCL profiling events.
+void renderKernel(benchmark::State& state, Algorithm algorithm, const std::string& kernel)
+{
+    Fixture& f = Fixture::get();
+    DeviceContext device(f.device, true);
+    RenderSettings s;
+    s.algorithm = algorithm;
+    s.width = s.height = 128;
+    s.wavefront = int(state.range(0));
+    Renderer renderer(device, f.scene, f.bvh, s);
+    renderer.iterate(); // warm-up: first launches compile work-group functions
+    Renderer::KernelStats before = renderer.kernelStats().at(kernel);
+    for (auto _ : state) {
+        renderer.iterate();
+        Renderer::KernelStats now = renderer.kernelStats().at(kernel);
+        state.SetIterationTime(now.seconds - before.seconds);
+        state.SetItemsProcessed(state.items_processed() + int64_t(now.items - before.items));
+        before = now;
+    }
+    state.counters["bytes_per_path"] = double(PathState::bytesPerPath());
+    state.counters["bytes_per_light_vertex"] = double(sizeof(LightVertex));
+}
+
+#define KERNEL_BENCHMARK(name, algorithm, kernel)                                                              \
+    void BM_Kernel_##name(benchmark::State& s) { renderKernel(s, algorithm, kernel); }                        \
+    BENCHMARK(BM_Kernel_##name)->Arg(1 << 14)->Arg(1 << 16)->UseManualTime()->Unit(benchmark::kMillisecond)
+KERNEL_BENCHMARK(generate, Algorithm::PathTracing, "generate");
+KERNEL_BENCHMARK(extend, Algorithm::PathTracing, "extend");
+KERNEL_BENCHMARK(shade, Algorithm::PathTracing, "shade");
+KERNEL_BENCHMARK(connect, Algorithm::PathTracing, "connect");
+KERNEL_BENCHMARK(accumulate, Algorithm::PathTracing, "accumulate");
+KERNEL_BENCHMARK(shade_light, Algorithm::VertexConnectionMerging, "shade_light");
+KERNEL_BENCHMARK(shade_bidirectional, Algorithm::VertexConnectionMerging, "shade_bidirectional");
+KERNEL_BENCHMARK(connect_vertices, Algorithm::VertexConnectionMerging, "connect_vertices");
+KERNEL_BENCHMARK(merge, Algorithm::VertexConnectionMerging, "merge");
+
+// The hash grid over N random light vertices (radius 0.01 in a unit cube).
+void BM_HashGridBuild(benchmark::State& state)
+{
+    Fixture& f = Fixture::get();
+    DeviceContext device(f.device);
+    std::string source = expandKernelSources(findKernelDir(), {"hash_grid.cl"});
+    cl::Program program = buildProgram(device.context, f.device, source, "-cl-std=CL1.2").program;
+    size_t n = size_t(state.range(0));
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0, 1);
+    std::vector<LightVertex> vertices(n);
+    for (LightVertex& v : vertices)
+        for (float& c : v.position) c = u(rng);
+    cl::Buffer buffer = uploadBuffer(device, vertices.data(), n * sizeof(LightVertex), "vertices");
+    HashGrid grid(device, program);
+    grid.reserve(n);
+    for (auto _ : state) {
+        auto start = std::chrono::steady_clock::now();
+        grid.build(buffer, int(n), 0.01f);
+        device.queue.finish();
+        state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(n));
+}
+BENCHMARK(BM_HashGridBuild)->Arg(1 << 16)->Arg(1 << 20)->Arg(1 << 22)->UseManualTime()->Unit(benchmark::kMillisecond);
+
+// Binned SAH build over N triangles of a tessellated sphere.
+void BM_BvhBuild(benchmark::State& state)
+{
+    int n = int(state.range(0));
+    int rings = int(std::sqrt(n / 2.0)), segments = std::max(3, n / (2 * rings));
+    std::vector<Vec3> v;
+    for (int r = 0; r < rings; ++r)
+        for (int g = 0; g < segments; ++g) {
+            auto p = [&](int a, int b) {
+                float t = float(M_PI) * a / rings, ph = 2 * float(M_PI) * b / segments;
+                return Vec3(std::sin(t) * std::cos(ph), std::cos(t), std::sin(t) * std::sin(ph));
+            };
+            for (Vec3 q : {p(r, g), p(r, g + 1), p(r + 1, g), p(r, g + 1), p(r + 1, g + 1), p(r + 1, g)}) v.push_back(q);
+        }
+    for (auto _ : state) benchmark::DoNotOptimize(buildBvh(v));
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(v.size() / 3));
+}
+BENCHMARK(BM_BvhBuild)->Arg(1 << 12)->Arg(1 << 16)->Arg(1 << 20)->Arg(1 << 22)->Unit(benchmark::kMillisecond);
+
+// Building the vcm program (kernel sources expanded, options of the scene).
+void BM_ProgramBuild(benchmark::State& state)
+{
+    Fixture& f = Fixture::get();
+    DeviceContext device(f.device);
+    std::string source = expandKernelSources(findKernelDir(), Renderer::kernelFiles(Algorithm::VertexConnectionMerging));
+    std::string options = "-cl-std=CL1.2 -DBIDIRECTIONAL" + f.scene.features().buildOptions();
+    for (auto _ : state) benchmark::DoNotOptimize(buildProgram(device.context, f.device, source, options));
+}
+BENCHMARK(BM_ProgramBuild)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+} // namespace
+} // namespace wv
+
+BENCHMARK_MAIN();
