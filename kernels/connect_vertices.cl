@@ -5,8 +5,8 @@
  * visible to its pixel. It runs before `shade`, which then moves the path on.
  * One work-item walks its whole light path and traces each shadow ray
  * itself: the number of connections varies per path. */
-#include "bsdf.h"
 #include "bvh_traversal.h"
+#include "camera_vertex.h"
 #include "lights.h"
 #include "mis.h"
 #include "path_state.h"
@@ -30,16 +30,15 @@ __kernel void connect_vertices(int capacity, __global const int* queueItems, __g
     int depth = pathDepth[slot];
     if (depth + 2 > maxPathLength) /* even the first light vertex would make the path too long */
         return;
-    int tri = hitTriangle[slot];
-    float3 wo = -rayDirections[slot].xyz;
-    SurfaceHit hit = surface_hit(triVertices, triNormals, tri, hitBary[slot], wo);
-    float3 woL = to_local(&hit.frame, wo);
-    Bsdf bsdf = make_bsdf(&materials[triMaterials[tri]], woL, hit.frontSide);
-    if (!bsdf_has_nondelta(&bsdf))
+    CameraVertex cv = camera_vertex(slot, triVertices, triNormals, triMaterials, materials, rayDirections, hitT,
+                                    hitTriangle, hitBary, pathMis);
+    if (!bsdf_has_nondelta(&cv.bsdf))
         return;
-    PathMis mis = load_mis(pathMis, slot);
-    mis_at_hit(&mis, hitT[slot], fabs(woL.z), true);
-    float contCamera = continuation_probability(&bsdf);
+    SurfaceHit hit = cv.hit;
+    float3 woL = cv.woL;
+    Bsdf bsdf = cv.bsdf;
+    PathMis mis = cv.mis;
+    float contCamera = cv.continuation;
     float3 beta = pathThroughput[slot].xyz;
     int pixel = pathPixel[slot];
 

@@ -5,7 +5,7 @@
  * other techniques with dVCM and dVM (eqs. 37-39; ppm: weight 1). It runs
  * before `shade`, which then moves the path on. No cosine at the camera
  * vertex: the light vertices' density on the surface already carries it. */
-#include "bsdf.h"
+#include "camera_vertex.h"
 #include "hash_grid.h"
 #include "mis.h"
 #include "path_state.h"
@@ -26,16 +26,15 @@ __kernel void merge(int capacity, __global const int* queueItems, __global const
     int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
     if (slot < 0)
         return;
-    int tri = hitTriangle[slot];
-    float3 wo = -rayDirections[slot].xyz;
-    SurfaceHit hit = surface_hit(triVertices, triNormals, tri, hitBary[slot], wo);
-    float3 woL = to_local(&hit.frame, wo);
-    Bsdf bsdf = make_bsdf(&materials[triMaterials[tri]], woL, hit.frontSide);
-    if (!bsdf_has_nondelta(&bsdf))
+    CameraVertex cv = camera_vertex(slot, triVertices, triNormals, triMaterials, materials, rayDirections, hitT,
+                                    hitTriangle, hitBary, pathMis);
+    if (!bsdf_has_nondelta(&cv.bsdf))
         return;
-    PathMis mis = load_mis(pathMis, slot);
-    mis_at_hit(&mis, hitT[slot], fabs(woL.z), true);
-    float contCamera = continuation_probability(&bsdf);
+    SurfaceHit hit = cv.hit;
+    float3 woL = cv.woL;
+    Bsdf bsdf = cv.bsdf;
+    PathMis mis = cv.mis;
+    float contCamera = cv.continuation;
     int depth = pathDepth[slot];
     float radius2 = radius * radius;
 

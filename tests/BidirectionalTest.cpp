@@ -202,22 +202,10 @@ TEST(Bidirectional, BatchesWhenLightVerticesDoNotFit)
     EXPECT_THROW(renderWith(1, &smallBatch), Error);
 }
 
-// PoCL and rusticl agree on bpt (as for pt: block means over three seeds
-// within 5 standard errors; same-seed images closer than different seeds).
+// PoCL and rusticl agree (test::expectSameImageOnEveryDevice).
 TEST(Bidirectional, SameImageOnEveryDevice)
 {
-    std::vector<DeviceInfo> devices = test::devicesUnderTest();
-    if (devices.size() < 2) GTEST_SKIP() << "only one OpenCL device; install mesa-opencl-icd for rusticl";
-    Scene scene = loadGltf(test::cornellBoxPath());
-    std::vector<Image> first = test::renderSeeds(devices[0], scene, Algorithm::Bidirectional, 32, 32, 8, 3);
-    for (size_t d = 1; d < devices.size(); ++d) {
-        SCOPED_TRACE(devices[0].name + " vs " + devices[d].name);
-        std::vector<Image> other = test::renderSeeds(devices[d], scene, Algorithm::Bidirectional, 32, 32, 8, 3);
-        EXPECT_EQ(test::tilesDisagreeing(first, other, 8, 5.0), 0);
-        double sameSeed = compareImages(other[0], first[0]).relMse;
-        double otherSeed = compareImages(first[1], first[0]).relMse;
-        EXPECT_LT(sameSeed, 0.25 * otherSeed) << "same-seed images differ about as much as independent ones";
-    }
+    test::expectSameImageOnEveryDevice(loadGltf(test::cornellBoxPath()), Algorithm::Bidirectional, 32, 8);
 }
 
 } // namespace

@@ -132,4 +132,19 @@ int tilesDisagreeing(const std::vector<Image>& a, const std::vector<Image>& b, i
     return bad;
 }
 
+void expectSameImageOnEveryDevice(const Scene& scene, Algorithm algorithm, int size, int iterations)
+{
+    std::vector<DeviceInfo> devices = enumerateDevices();
+    if (devices.size() < 2) GTEST_SKIP() << "only one OpenCL device; install mesa-opencl-icd for rusticl";
+    std::vector<Image> first = renderSeeds(devices[0], scene, algorithm, size, size, iterations, 3);
+    for (size_t d = 1; d < devices.size(); ++d) {
+        SCOPED_TRACE(devices[0].name + " vs " + devices[d].name);
+        std::vector<Image> other = renderSeeds(devices[d], scene, algorithm, size, size, iterations, 3);
+        EXPECT_EQ(tilesDisagreeing(first, other, 8, 5.0), 0);
+        double sameSeed = compareImages(other[0], first[0]).relMse;
+        double otherSeed = compareImages(first[1], first[0]).relMse;
+        EXPECT_LT(sameSeed, 0.25 * otherSeed) << "same-seed images differ about as much as independent ones";
+    }
+}
+
 } // namespace wv::test

@@ -45,4 +45,10 @@ std::vector<Image> renderSeeds(const DeviceInfo& device, const Scene& scene, Alg
 int tilesDisagreeing(const std::vector<Image>& a, const std::vector<Image>& b, int tile, double k,
                      const std::vector<bool>& mask = {}, int* compared = nullptr);
 
+// The same image from every OpenCL device present (skips with one): per 8×8
+// block, means over three seeds agree within 5 seed-to-seed standard errors;
+// with the same seeds the devices draw the same samples, so their images must
+// also be much closer to each other than two seeds are.
+void expectSameImageOnEveryDevice(const Scene& scene, Algorithm algorithm, int size, int iterations);
+
 } // namespace wv::test
