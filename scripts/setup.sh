@@ -10,7 +10,8 @@ packages=(
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers   # OpenCL ICD loader, C and C++ headers
   pocl-opencl-icd                                          # PoCL: OpenCL on the CPU (the default device here)
   mesa-opencl-icd                                          # rusticl: the second implementation the tests compare with
-  libopenimageio-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev
+  libopenimageio-dev openimageio-tools                    # the tools: Debian's OpenImageIO CMake config requires them
+  libtinygltf-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   python3-matplotlib python3-numpy                         # scripts/convergence.py
 )
