@@ -2,13 +2,17 @@
 // of one kernel on one scene and device as items_per_second:
 //   Extend/Connect   rays/s, on coherent camera rays and on incoherent rays
 //                    (random origins inside the scene, random directions);
+//                    with Embree found at build time, the same rays traced by
+//                    Embree too: counters embree_rays_per_s, vs_embree
+//                    (wavevcm's rate / Embree's) and embree_mismatch (fraction
+//                    of rays whose hit or occlusion differs);
 //   Kernel/<name>    the render kernels inside real iterations, from OpenCL
 //                    profiling events: path slots/s for generate and the
 //                    shade, connect and merge kernels, pixels/s for accumulate;
 //   HashGridBuild    light vertices/s;
 //   BvhBuild         triangles/s for generated meshes up to 4M triangles;
-//   ProgramBuild     kernel build time (from the cache unless the caches are
-//                    off: WAVEVCM_CACHE_DIR=off POCL_KERNEL_CACHE=0).
+//   ProgramBuild     kernel build time of vcm, cold (cached:0) and from
+//                    wavevcm's program cache (cached:1).
 // The first argument of the ray and kernel benchmarks is the wavefront size.
 // Scene: $WAVEVCM_BENCH_SCENE (default scenes/cornell-box.gltf); device:
 // $WAVEVCM_BENCH_DEVICE (as `render --device`). Counters: bytes_per_path
@@ -18,6 +22,9 @@
 #include "render/HashGrid.h"
 #include "render/Renderer.h"
 #include "scene/GltfLoader.h"
+#ifdef WAVEVCM_HAVE_EMBREE
+#include "EmbreeReference.h"
+#endif
 
 #include "../kernels/queue_ids.h"
 
@@ -57,9 +64,18 @@ struct Fixture {
         static Fixture f;
         return f;
     }
+#ifdef WAVEVCM_HAVE_EMBREE
+    const EmbreeReference& embree()
+    {
+        static EmbreeReference reference(scene.vertices);
+        return reference;
+    }
+#endif
 };
 
+#ifndef WAVEVCM_HAVE_EMBREE
 using Float4 = std::array<float, 4>;
+#endif
 
 // Rays for the ray benchmarks: coherent camera rays over the image, or
 // incoherent rays from random points in the scene's bounds.
@@ -110,10 +126,17 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
     counters[COUNTER_INDEX(queue)] = int(n);
     cl::Buffer itemBuffer = uploadBuffer(device, items.data(), items.size() * 4, "queues");
     cl::Buffer counterBuffer = deviceBuffer(device, counters.size() * 4, "counters");
-    cl::Buffer t = deviceBuffer(device, n * 16, "results"), tri = deviceBuffer(device, n * 4, "triangles"),
-               bary = deviceBuffer(device, n * 8, "barycentrics"), contribution = deviceBuffer(device, n * 16, "c"),
-               pixels = deviceBuffer(device, n * 4, "pixels"), radiance = deviceBuffer(device, n * 16, "radiance");
-    device.queue.enqueueFillBuffer(pixels, 0, 0, n * 4);
+    // connect adds a contribution of one to its own pixel for every
+    // unoccluded ray, so the radiance afterwards says which rays were.
+    std::vector<int> ownPixel(n);
+    for (size_t i = 0; i < n; ++i) ownPixel[i] = int(i);
+    std::vector<Float4> ones(n, Float4{1, 1, 1, 1});
+    cl::Buffer t = deviceBuffer(device, n * 4, "hit distances"), tri = deviceBuffer(device, n * 4, "triangles"),
+               bary = deviceBuffer(device, n * 8, "barycentrics"),
+               contribution = uploadBuffer(device, ones.data(), n * 16, "contributions"),
+               pixels = uploadBuffer(device, ownPixel.data(), n * 4, "pixels"),
+               radiance = deviceBuffer(device, n * 16, "radiance");
+    device.queue.enqueueFillBuffer(radiance, 0.0f, 0, n * 16);
     cl::Kernel k(program, anyHit ? "connect" : "extend");
     if (anyHit) {
         int arg = 0;
@@ -142,15 +165,47 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
         k.setArg(arg++, bary);
     }
     size_t global = (n + 63) / 64 * 64;
+    double seconds = 0;
     for (auto _ : state) {
         // extend pushes to the hit/escaped queues: reset their counters.
         device.queue.enqueueWriteBuffer(counterBuffer, CL_FALSE, 0, counters.size() * 4, counters.data());
         auto start = std::chrono::steady_clock::now();
         device.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(64));
         device.queue.finish();
-        state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        state.SetIterationTime(s);
+        seconds += s;
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(n));
+#ifdef WAVEVCM_HAVE_EMBREE
+    // Embree on the same rays: the best of three runs, against wavevcm's mean.
+    std::vector<float> reference;
+    double embreeSeconds = INFINITY;
+    for (int run = 0; run < 3; ++run)
+        embreeSeconds = std::min(embreeSeconds, f.embree().trace(origins, directions, anyHit, &reference));
+    double embreeRate = double(n) / embreeSeconds;
+    state.counters["embree_rays_per_s"] = embreeRate;
+    state.counters["vs_embree"] = double(state.iterations()) * double(n) / seconds / embreeRate;
+    // Where the two disagree: hit versus miss, or a distance off by more than
+    // float rounding over the traversal (relative 1e-4).
+    std::vector<float> ours(n);
+    if (anyHit) {
+        std::vector<Float4> r(n);
+        device.queue.enqueueReadBuffer(radiance, CL_TRUE, 0, n * 16, r.data());
+        for (size_t i = 0; i < n; ++i) ours[i] = r[i][0] > 0 ? INFINITY : 0.0f;
+    } else {
+        device.queue.enqueueReadBuffer(t, CL_TRUE, 0, n * 4, ours.data());
+    }
+    size_t mismatches = 0;
+    for (size_t i = 0; i < n; ++i) {
+        bool hitA = std::isfinite(ours[i]), hitB = std::isfinite(reference[i]);
+        if (hitA != hitB || (hitA && std::fabs(ours[i] - reference[i]) > 1e-4f * std::max(1.0f, reference[i])))
+            ++mismatches;
+    }
+    state.counters["embree_mismatch"] = double(mismatches) / double(n);
+#else
+    (void)seconds;
+#endif
 }
 
 void BM_ExtendCoherent(benchmark::State& s) { rays(s, true, false); }
@@ -244,16 +299,30 @@ void BM_BvhBuild(benchmark::State& state)
 }
 BENCHMARK(BM_BvhBuild)->Arg(1 << 12)->Arg(1 << 16)->Arg(1 << 20)->Arg(1 << 22)->Unit(benchmark::kMillisecond);
 
-// Building the vcm program (kernel sources expanded, options of the scene).
+// Building the vcm program (kernel sources expanded, options of the scene):
+// cold (argument 0: wavevcm's cache off, and a comment unique to each build
+// so that the driver's own cache, PoCL's, misses too) or cached (1).
 void BM_ProgramBuild(benchmark::State& state)
 {
     Fixture& f = Fixture::get();
     DeviceContext device(f.device);
+    bool cached = state.range(0) != 0;
     std::string source = expandKernelSources(findKernelDir(), Renderer::kernelFiles(Algorithm::VertexConnectionMerging));
     std::string options = "-cl-std=CL1.2 -DBIDIRECTIONAL" + f.scene.features().buildOptions();
-    for (auto _ : state) benchmark::DoNotOptimize(buildProgram(device.context, f.device, source, options));
+    if (cached) buildProgram(device.context, f.device, source, options); // fill the cache
+    std::string savedCacheDir = env("WAVEVCM_CACHE_DIR", "");
+    if (!cached) setenv("WAVEVCM_CACHE_DIR", "off", 1);
+    for (auto _ : state) {
+        std::string unique = cached ? "" : "\n// cold build " +
+            std::to_string(std::chrono::system_clock::now().time_since_epoch().count()) + "\n";
+        benchmark::DoNotOptimize(buildProgram(device.context, f.device, source + unique, options));
+    }
+    if (savedCacheDir.empty())
+        unsetenv("WAVEVCM_CACHE_DIR");
+    else
+        setenv("WAVEVCM_CACHE_DIR", savedCacheDir.c_str(), 1);
 }
-BENCHMARK(BM_ProgramBuild)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_ProgramBuild)->ArgName("cached")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 } // namespace
 } // namespace wv
