@@ -49,6 +49,8 @@ __kernel void connect_vertices(int capacity, __global const int* queueItems, __g
             continue; /* vertices go from the deepest back: shallower ones may still fit */
         float3 toLight = vload3(0, lv->toLight);
         SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, (float2)(lv->b1, lv->b2), toLight);
+        if (!connection_resolved(hit.p, hit.pError, hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF))
+            continue;
         float3 d = lightHit.p - hit.p;
         float dist2 = dot(d, d);
         if (!(dist2 > 0.0f))

@@ -269,6 +269,19 @@ inline void background_hit_pdfs(float pmf, float sceneRadius, float* directPdfW,
 /* Ray from p towards a point `target` with error bound `targetError` on a
  * surface with normal targetNormal: both ends offset, the segment stopping
  * just short of the far end (pbrt-v4 SpawnRayTo). */
+/* Whether a connection between surface points p and q leaves each on a side
+ * that rounding cannot flip: each point lies farther from the other's
+ * tangent plane than the two error bounds reach along that plane's normal.
+ * Two points of one plane, one on each side of a thin wall, fail it: their
+ * sides are decided by rounding, and the shadow ray between them, parallel
+ * to the wall within ~1e-7, slips through it. Such connections carry
+ * cos θ ≈ 0 at both ends; dropping them costs nothing measurable. */
+inline bool connection_resolved(float3 p, float3 pError, float3 np, float3 q, float3 qError, float3 nq)
+{
+    float3 d = q - p, error = pError + qError;
+    return fabs(dot(d, np)) > dot(fabs(np), error) && fabs(dot(d, nq)) > dot(fabs(nq), error);
+}
+
 inline Ray ray_between(float3 p, float3 pError, float3 n, float3 target, float3 targetError, float3 targetNormal)
 {
     Ray r;
@@ -277,6 +290,13 @@ inline Ray ray_between(float3 p, float3 pError, float3 n, float3 target, float3 
     r.direction = end - r.origin;
     r.tMax = 1.0f - 1e-4f;
     return r;
+}
+
+/* connection_resolved for a light sample at a surface hit: only a triangle
+ * light has a surface, and so a side, at the far end. */
+inline bool light_sample_resolved(float3 p, float3 pError, float3 ng, const LightSample* ls)
+{
+    return ls->type != LIGHT_TRIANGLE || connection_resolved(p, pError, ng, ls->lightPoint, ls->lightError, ls->lightNormal);
 }
 
 /* The shadow ray of a light sample taken at a surface hit. */

@@ -61,7 +61,7 @@ inline void shade_hit(__global const float4* triVertices, __global const float4*
         LightSample ls;
         if (sample_light(lights, lightCdf, triVertices, scene, hit.p, u.xyz, &ls)) {
             float3 wiL = to_local(&hit.frame, ls.direction);
-            if (sides_agree(&hit, ls.direction, wiL)) {
+            if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfBsdf, pdfRev;
                 float3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfBsdf, &pdfRev);
                 if (max_component(f) > 0.0f) {

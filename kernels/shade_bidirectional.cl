@@ -81,7 +81,7 @@ inline CameraHitResult shade_camera_hit(
         LightSample ls;
         if (sample_light(lights, lightCdf, triVertices, scene, hit.p, u.xyz, &ls)) {
             float3 wiL = to_local(&hit.frame, ls.direction);
-            if (sides_agree(&hit, ls.direction, wiL)) {
+            if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfFwd, pdfRev;
                 float3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfFwd, &pdfRev);
                 if (max_component(f) > 0.0f) {
