@@ -4,6 +4,7 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -100,6 +101,7 @@ private:
     void loadMaterials();
     Material convertMaterial(const tinygltf::Material& m, int index);
     void visitNodes();
+    void chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed);
     void addMesh(int meshIndex, const Mat4& world, const std::string& nodeName);
     void addCamera(int cameraIndex, const Mat4& world);
     void addLight(const tinygltf::Value& ext, const Mat4& world, const std::string& nodeName);
@@ -287,6 +289,7 @@ void Loader::visitNodes()
     // child, both invalid glTF) is an error rather than an endless loop.
     std::vector<bool> visited(model_.nodes.size(), false);
     std::vector<std::pair<int, Mat4>> stack;
+    std::vector<std::pair<int, Mat4>> placed; // nodes with a mesh, camera or light, and their world transforms
     for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, identity()});
     while (!stack.empty()) {
         auto [index, parent] = stack.back();
@@ -304,14 +307,66 @@ void Loader::visitNodes()
         Mat4 world = multiply(parent, localTransform(node));
         for (double v : world)
             if (!std::isfinite(v)) fail("node " + std::to_string(index) + " has a non-finite transform");
+        if (node.mesh >= 0 || node.camera >= 0 || extension(node.extensions, "KHR_lights_punctual"))
+            placed.push_back({index, world});
+        if (node.skin >= 0) warnOnce("skins are not supported; meshes are used in their bind pose");
+        for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});
+    }
+
+    chooseOrigin(placed);
+    for (auto& [index, world] : placed) {
+        const tinygltf::Node& node = model_.nodes[index];
+        for (int k = 0; k < 3; ++k) world[12 + k] -= scene_.origin[k]; // translate(-origin) · world
         std::string nodeName = "node " + std::to_string(index) + (node.name.empty() ? "" : " '" + node.name + "'");
         if (node.mesh >= 0) addMesh(node.mesh, world, nodeName);
         if (node.camera >= 0) addCamera(node.camera, world);
         if (const tinygltf::Value* e = extension(node.extensions, "KHR_lights_punctual"))
             addLight(*e, world, nodeName);
-        if (node.skin >= 0) warnOnce("skins are not supported; meshes are used in their bind pose");
-        for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});
     }
+}
+
+// A scene far from the origin compared with its size is moved, camera and
+// lights with it, so that its centre is the origin: the transforms are
+// applied in double and only the moved coordinates are rounded to float,
+// which then keep their full precision relative to the scene's size (at
+// 1e5 units a float resolves only ~0.008: too coarse for ray offsets or a
+// merge radius a thousandth of the scene). Radiance does not change under a
+// translation, so neither does the image.
+void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    auto include = [&](const Mat4& world, double x, double y, double z) {
+        for (int k = 0; k < 3; ++k) {
+            double v = world[k] * x + world[4 + k] * y + world[8 + k] * z + world[12 + k];
+            lo[k] = std::min(lo[k], v);
+            hi[k] = std::max(hi[k], v);
+        }
+    };
+    for (const auto& [index, world] : placed) {
+        int meshIndex = model_.nodes[index].mesh;
+        if (meshIndex < 0 || size_t(meshIndex) >= model_.meshes.size()) continue; // addMesh reports it
+        for (const tinygltf::Primitive& prim : model_.meshes[meshIndex].primitives) {
+            auto pos = prim.attributes.find("POSITION");
+            if (pos == prim.attributes.end() || pos->second < 0 || size_t(pos->second) >= model_.accessors.size())
+                continue;
+            // The accessor's bounds (required by glTF for POSITION) bound the
+            // transformed box's corners; this only picks a centre, so a wrong
+            // bound moves the scene less well but changes no image.
+            const tinygltf::Accessor& a = model_.accessors[pos->second];
+            if (a.minValues.size() != 3 || a.maxValues.size() != 3) continue;
+            for (int c = 0; c < 8; ++c)
+                include(world, (c & 1 ? a.maxValues : a.minValues)[0], (c & 2 ? a.maxValues : a.minValues)[1],
+                        (c & 4 ? a.maxValues : a.minValues)[2]);
+        }
+    }
+    double centre[3], diagonal2 = 0, distance2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        centre[k] = 0.5 * (lo[k] + hi[k]);
+        diagonal2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+        distance2 += centre[k] * centre[k];
+    }
+    if (!std::isfinite(distance2) || !std::isfinite(diagonal2) || distance2 <= diagonal2) return;
+    for (int k = 0; k < 3; ++k) scene_.origin[k] = centre[k];
 }
 
 const unsigned char* Loader::accessorData(const tinygltf::Accessor& a, size_t elementSize,

@@ -51,6 +51,10 @@ struct Scene {
     Vec3 background{0, 0, 0}; // uniform background radiance (scene extras.background)
     CameraView camera;
     bool cameraFromFile = false;
+    // Where the scene's coordinates start in the file's: the loader moves a
+    // scene that lies far from the origin (compared with its size) so that
+    // its centre is at the origin (file position = position + origin).
+    double origin[3] = {0, 0, 0};
     std::vector<std::string> warnings;
 
     size_t triangleCount() const { return triangleMaterial.size(); }
