@@ -11,6 +11,7 @@ struct RenderOptions {
     std::string algorithm = "vcm";
     int spp = 0;         // 0 = not given
     double seconds = 0;  // 0 = not given
+    bool sppGiven = false, secondsGiven = false; // given on the command line (then they must be > 0)
     std::string device;
     int width = 0, height = 0; // 0 = from the camera
     int maxPathLength = 10;

@@ -10,10 +10,12 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <memory>
 #include <fstream>
+#include <memory>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -115,10 +117,29 @@ static double since(std::chrono::steady_clock::time_point t)
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// Ctrl-C (SIGINT) or SIGTERM during a render: the iteration in flight
+// finishes, the image so far is written, and the exit status is 128 + the
+// signal. The handler is reset on delivery (SA_RESETHAND), so a second
+// Ctrl-C ends the process at once.
+static volatile std::sig_atomic_t interruptSignal = 0;
+
+extern "C" void onInterrupt(int signal) { interruptSignal = signal; }
+
+static void catchInterrupts()
+{
+    struct sigaction action {};
+    action.sa_handler = onInterrupt;
+    action.sa_flags = SA_RESETHAND;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+}
+
 static void validate(const RenderOptions& o)
 {
-    if (o.spp < 0) throw Error("--spp must be positive");
-    if (o.seconds < 0 || !std::isfinite(o.seconds)) throw Error("--time must be a positive number of seconds");
+    if (o.spp < 0 || (o.sppGiven && o.spp == 0)) throw Error("--spp must be positive");
+    if (o.seconds < 0 || (o.secondsGiven && o.seconds == 0) || !std::isfinite(o.seconds))
+        throw Error("--time must be a positive number of seconds");
     if (o.width < 0 || o.height < 0 || o.width > 32768 || o.height > 32768)
         throw Error("--width and --height must be between 1 and 32768");
     if (o.maxPathLength < 1) throw Error("--max-path-length must be at least 1");
@@ -146,6 +167,9 @@ int runRender(const RenderOptions& o)
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".exr" && ext != ".hdr" && ext != ".pfm" && ext != ".png" && ext != ".jpg" && ext != ".jpeg")
         throw Error(o.output + ": unsupported output format (use .exr, .hdr, .pfm, .png or .jpg)");
+    checkWritable(o.output);
+    if (!o.statsFile.empty()) checkWritable(o.statsFile);
+    catchInterrupts();
 
     auto setupStart = std::chrono::steady_clock::now();
     std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
@@ -184,14 +208,26 @@ int runRender(const RenderOptions& o)
     // Render time excludes the error log's work (reading the image back and
     // comparing it), so the log's times are what the render alone took.
     double renderSeconds = 0;
-    do {
+    while (!interruptSignal) {
         auto start = std::chrono::steady_clock::now();
         renderer.iterate();
         renderSeconds += since(start);
         if (errorLog) errorLog->add(renderSeconds, renderer.iterations(), renderer.image());
         progress.update(renderer.iterations(), renderSeconds, double(settings.width) * settings.height);
-    } while ((spp == 0 || renderer.iterations() < spp) && (o.seconds == 0 || renderSeconds < o.seconds));
+        if ((spp > 0 && renderer.iterations() >= spp) || (o.seconds > 0 && renderSeconds >= o.seconds)) break;
+    }
     progress.finish();
+    int exitCode = 0;
+    if (interruptSignal) {
+        exitCode = 128 + int(interruptSignal);
+        if (renderer.iterations() == 0) {
+            std::fprintf(stderr, "wavevcm: interrupted (%s) before the first iteration: no image written\n",
+                         strsignal(interruptSignal));
+            return exitCode;
+        }
+        std::fprintf(stderr, "wavevcm: interrupted (%s): writing the %d iterations rendered so far\n",
+                     strsignal(interruptSignal), renderer.iterations());
+    }
 
     Image image = renderer.image();
     uint64_t nonFinite = renderer.nonFiniteCount();
@@ -235,13 +271,14 @@ int runRender(const RenderOptions& o)
             {"kernel_cache_hit", renderer.programBuild().fromCache},
             {"wavefront", renderer.wavefront()},
             {"merge_radius", renderer.mergeRadius()},
+            {"scene_origin", {scene.origin[0], scene.origin[1], scene.origin[2]}},
             {"device_bytes", renderer.deviceBytes()},
         };
         std::ofstream out(o.statsFile);
         out << stats.dump(2) << "\n";
         if (!out) throw Error(o.statsFile + ": cannot write");
     }
-    return 0;
+    return exitCode;
 }
 
 } // namespace wv

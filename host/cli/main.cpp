@@ -55,6 +55,8 @@ int main(int argc, char** argv)
     compare->add_option("--max-relmse", maxRelMse, "exit with status 1 if relMSE exceeds this");
 
     CLI11_PARSE(app, argc, argv);
+    r.sppGiven = render->count("--spp") > 0;
+    r.secondsGiven = render->count("--time") > 0;
 
     try {
         if (render->parsed()) return wv::runRender(r);

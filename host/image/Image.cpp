@@ -19,6 +19,45 @@ static std::string extensionOf(const std::string& path)
     return ext;
 }
 
+// The temporary name an image is written under, beside `path`; it keeps the
+// extension, from which OpenImageIO picks the format (and, for .pfm, float
+// rather than 8-bit PNM).
+static std::filesystem::path partialPath(const std::string& path)
+{
+    std::filesystem::path target(path);
+    return target.parent_path() /
+           ("." + target.stem().string() + ".partial" + std::to_string(::getpid()) + target.extension().string());
+}
+
+// Moves the finished temporary file onto `path` (atomic within a directory).
+static void commitPartial(const std::filesystem::path& tmp, const std::string& path)
+{
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::error_code ignored;
+        std::filesystem::remove(tmp, ignored);
+        throw Error(path + ": cannot write image: " + ec.message());
+    }
+}
+
+void checkWritable(const std::string& path)
+{
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": cannot write: is a directory");
+    std::filesystem::path probe = partialPath(path);
+    {
+        std::ofstream out(probe, std::ios::binary);
+        if (!out) {
+            std::filesystem::path dir = std::filesystem::path(path).parent_path();
+            std::string why = dir.empty() || std::filesystem::is_directory(dir, ec) ? "permission denied or read-only"
+                                                                                    : "no such directory";
+            throw Error(path + ": cannot write: " + why);
+        }
+    }
+    std::filesystem::remove(probe, ec);
+}
+
 // Portable float map: "PF", size, a negative scale for little-endian, then
 // float RGB rows from the bottom up. Written here because Debian's
 // OpenImageIO 2.4 reads PFM but has no PFM writer.
@@ -49,11 +88,7 @@ void writeImage(const std::string& path, const Image& image)
         out = OIIO::ImageBufAlgo::colorconvert(out, "linear", "sRGB");
         if (out.has_error()) throw Error(path + ": colour conversion failed: " + out.geterror());
     }
-    // The temporary name keeps the extension, from which OpenImageIO picks the
-    // format (and, for .pfm, float rather than 8-bit PNM).
-    std::filesystem::path target(path);
-    std::filesystem::path tmp = target.parent_path() / ("." + target.stem().string() + ".partial" +
-                                                        std::to_string(::getpid()) + target.extension().string());
+    std::filesystem::path tmp = partialPath(path);
     bool written = ext == ".pfm" ? writePfm(tmp.string(), image)
                                  : out.write(tmp.string(), eightBit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
     if (!written) {
@@ -62,12 +97,7 @@ void writeImage(const std::string& path, const Image& image)
         std::string why = out.geterror();
         throw Error(path + ": cannot write image" + (why.empty() ? "" : ": " + why));
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw Error(path + ": cannot write image: " + ec.message());
-    }
+    commitPartial(tmp, path);
 }
 
 void writeExrLayers(const std::string& path, const std::vector<std::string>& names, const std::vector<Image>& images)
@@ -83,17 +113,13 @@ void writeExrLayers(const std::string& path, const std::vector<std::string>& nam
         for (size_t p = 0; p < size_t(w) * h; ++p)
             for (int c = 0; c < 3; ++c) pixels[p * channels + 3 * l + c] = images[l].rgb[3 * p + c];
     OIIO::ImageBuf buf(spec, pixels.data());
-    std::filesystem::path target(path);
-    std::filesystem::path tmp = target.parent_path() / ("." + target.stem().string() + ".partial" +
-                                                        std::to_string(::getpid()) + target.extension().string());
+    std::filesystem::path tmp = partialPath(path);
     if (!buf.write(tmp.string(), OIIO::TypeDesc::FLOAT, "openexr")) {
         std::error_code ec;
         std::filesystem::remove(tmp, ec);
         throw Error(path + ": cannot write image: " + buf.geterror());
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) throw Error(path + ": cannot write image: " + ec.message());
+    commitPartial(tmp, path);
 }
 
 Image readImage(const std::string& path)
