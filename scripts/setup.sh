@@ -13,6 +13,8 @@ packages=(
   libopenimageio-dev openimageio-tools                    # the tools: Debian's OpenImageIO CMake config requires them
   libtinygltf-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libbenchmark-dev
+  clang libclang-rt-dev                                    # the glTF loader's fuzz target (libFuzzer)
+  libembree-dev                                            # optional: the ray benchmarks compare with Embree
   python3-matplotlib python3-numpy                         # scripts/convergence.py
 )
 missing=()

@@ -410,6 +410,28 @@ TEST_F(GltfLoader, ZeroScaleNodeIsSkippedWithAWarning)
     for (const Vec3& v : s.vertices) EXPECT_LT(v.x, 2.0f) << "a vertex of the zero-scale node";
 }
 
+// A scene far from the origin compared with its size is moved so that its
+// centre is the origin, in double precision: the triangle 1e5 + 1e-3 away
+// keeps its 1e-3 offsets exactly (a float at 1e5 resolves only 0.0078).
+// A scene near the origin stays where it is.
+TEST_F(GltfLoader, FarSceneIsMovedToTheOriginInDoublePrecision)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["accessors"][0]["min"] = {0, 0, 0};
+    b.j["accessors"][0]["max"] = {1, 1, 0};
+    b.j["nodes"][0]["translation"] = {1e5 + 1e-3, 0, 0};
+    b.j["nodes"][0]["scale"] = {1e-3, 1e-3, 1e-3};
+    Scene s = load(b);
+    EXPECT_DOUBLE_EQ(s.origin[0], 1e5 + 1e-3 + 0.5e-3);
+    EXPECT_DOUBLE_EQ(s.origin[1], 0.5e-3);
+    EXPECT_TRUE(near(s.vertices[0], {-0.5e-3f, -0.5e-3f, 0}, 1e-9f));
+    EXPECT_TRUE(near(s.vertices[1], {0.5e-3f, -0.5e-3f, 0}, 1e-9f));
+
+    GltfBuilder atOrigin = oneTriangle();
+    Scene unmoved = load(atOrigin, "unmoved");
+    for (double o : unmoved.origin) EXPECT_EQ(o, 0.0);
+}
+
 TEST_F(GltfLoader, BinaryGlbLoads)
 {
     GltfBuilder b = oneTriangle();
@@ -715,6 +737,20 @@ TEST_F(GltfLoader, BaseColorTextureWarns)
     EXPECT_FLOAT_EQ(s.materials.at(0).baseColor[0], 0.5f) << "the factor is still used";
 }
 
+// A texture whose image file is missing: textures are not used, so this is a
+// warning naming the file, and the factors still apply.
+TEST_F(GltfLoader, MissingTextureImageWarns)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["images"] = json::array({{{"uri", "missing.png"}}});
+    b.j["textures"] = json::array({{{"source", 0}}});
+    b.j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    Scene s = load(b);
+    EXPECT_EQ(s.triangleCount(), 1u);
+    EXPECT_TRUE(anyWarningContains(s, "missing.png"));
+    EXPECT_FLOAT_EQ(s.materials.at(0).baseColor[0], 0.5f);
+}
+
 // ---------------------------------------------------------------- background
 
 TEST_F(GltfLoader, BackgroundFromSceneExtras)
@@ -861,6 +897,26 @@ TEST_F(GltfLoader, NodeCycleThrows)
     b.addNode({{"mesh", 0}, {"children", {2}}});
     b.addNode({{"children", {1}}}, false);
     expectLoadError(b.writeGltf(dir_, "scene"), "cycle");
+}
+
+// A chain of a million nodes, each the only child of the one before, the
+// last holding the mesh: loads (iteratively: recursion would overflow the
+// stack) with every translation applied once.
+TEST_F(GltfLoader, MillionNodeHierarchyLoads)
+{
+    const int depth = 1000000;
+    GltfBuilder b = oneTriangle();
+    json mesh = b.j["nodes"][0];
+    json& nodes = b.j["nodes"];
+    nodes = json::array();
+    for (int i = 0; i < depth - 1; ++i)
+        nodes.push_back({{"translation", {1e-6, 0, 0}}, {"children", {i + 1}}});
+    mesh["translation"] = {1e-6, 0, 0};
+    nodes.push_back(mesh);
+    b.j["scenes"][0]["nodes"] = {0};
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 1u);
+    EXPECT_NEAR(s.vertices[0].x, 1.0f, 1e-3f) << "a million translations of 1e-6";
 }
 
 TEST_F(GltfLoader, SceneWithoutTrianglesThrows)
