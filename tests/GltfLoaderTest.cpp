@@ -417,8 +417,9 @@ TEST_F(GltfLoader, ZeroScaleNodeIsSkippedWithAWarning)
 TEST_F(GltfLoader, FarSceneIsMovedToTheOriginInDoublePrecision)
 {
     GltfBuilder b = oneTriangle();
-    b.j["accessors"][0]["min"] = {0, 0, 0};
-    b.j["accessors"][0]["max"] = {1, 1, 0};
+    // Bounds far off the data: the centre comes from the positions themselves.
+    b.j["accessors"][0]["min"] = {-1e30, 0, 0};
+    b.j["accessors"][0]["max"] = {1e30, 1, 0};
     b.j["nodes"][0]["translation"] = {1e5 + 1e-3, 0, 0};
     b.j["nodes"][0]["scale"] = {1e-3, 1e-3, 1e-3};
     Scene s = load(b);
@@ -865,6 +866,15 @@ TEST_F(GltfLoader, NaNPositionThrows)
     int pos = b.addVec3s({{0, 0, 0}, {1, nan, 0}, {0, 1, 0}});
     b.addNode({{"mesh", b.addMesh({primitive(pos)})}});
     expectLoadError(b.writeGltf(dir_, "scene"), "NaN");
+}
+
+TEST_F(GltfLoader, InfinitePositionThrows)
+{
+    GltfBuilder b;
+    float inf = std::numeric_limits<float>::infinity();
+    int pos = b.addVec3s({{0, 0, 0}, {1, 0, -inf}, {0, 1, 0}});
+    b.addNode({{"mesh", b.addMesh({primitive(pos)})}});
+    expectLoadError(b.writeGltf(dir_, "scene"), "NaN or Inf");
 }
 
 TEST_F(GltfLoader, LinesPrimitiveThrows)

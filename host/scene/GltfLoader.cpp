@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <set>
 
 namespace wv {
@@ -325,8 +326,9 @@ void Loader::visitNodes()
     }
 }
 
-// A scene far from the origin compared with its size is moved, camera and
-// lights with it, so that its centre is the origin: the transforms are
+// A scene far from the origin compared with its size (more than 100 times
+// its diagonal) is moved, camera and lights with it, so that its centre is
+// the origin: the transforms are
 // applied in double and only the moved coordinates are rounded to float,
 // which then keep their full precision relative to the scene's size (at
 // 1e5 units a float resolves only ~0.008: too coarse for ray offsets or a
@@ -342,21 +344,34 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
             hi[k] = std::max(hi[k], v);
         }
     };
+    // Each POSITION accessor's own bounds (from its values, not its
+    // min/max, which may be wrong), once; every instance then adds the
+    // corners of that box, transformed: a bound of the scene, enough to
+    // pick a centre.
+    std::map<int, std::pair<Vec3, Vec3>> localBounds;
     for (const auto& [index, world] : placed) {
         int meshIndex = model_.nodes[index].mesh;
         if (meshIndex < 0 || size_t(meshIndex) >= model_.meshes.size()) continue; // addMesh reports it
-        for (const tinygltf::Primitive& prim : model_.meshes[meshIndex].primitives) {
-            auto pos = prim.attributes.find("POSITION");
-            if (pos == prim.attributes.end() || pos->second < 0 || size_t(pos->second) >= model_.accessors.size())
-                continue;
-            // The accessor's bounds (required by glTF for POSITION) bound the
-            // transformed box's corners; this only picks a centre, so a wrong
-            // bound moves the scene less well but changes no image.
-            const tinygltf::Accessor& a = model_.accessors[pos->second];
-            if (a.minValues.size() != 3 || a.maxValues.size() != 3) continue;
+        const std::vector<tinygltf::Primitive>& primitives = model_.meshes[meshIndex].primitives;
+        for (size_t p = 0; p < primitives.size(); ++p) {
+            auto pos = primitives[p].attributes.find("POSITION");
+            if (pos == primitives[p].attributes.end()) continue;
+            auto known = localBounds.find(pos->second);
+            if (known == localBounds.end()) {
+                Vec3 boxLo(INFINITY, INFINITY, INFINITY), boxHi(-INFINITY, -INFINITY, -INFINITY);
+                std::string what = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
+                for (const Vec3& v : readVec3(pos->second, what + " POSITION"))
+                    if (isFinite(v)) // addMesh rejects the others
+                        for (int k = 0; k < 3; ++k) {
+                            boxLo[k] = std::min(boxLo[k], v[k]);
+                            boxHi[k] = std::max(boxHi[k], v[k]);
+                        }
+                known = localBounds.emplace(pos->second, std::make_pair(boxLo, boxHi)).first;
+            }
+            const auto& [boxLo, boxHi] = known->second;
+            if (!(boxLo.x <= boxHi.x)) continue; // no finite position
             for (int c = 0; c < 8; ++c)
-                include(world, (c & 1 ? a.maxValues : a.minValues)[0], (c & 2 ? a.maxValues : a.minValues)[1],
-                        (c & 4 ? a.maxValues : a.minValues)[2]);
+                include(world, (c & 1 ? boxHi : boxLo).x, (c & 2 ? boxHi : boxLo).y, (c & 4 ? boxHi : boxLo).z);
         }
     }
     double centre[3], diagonal2 = 0, distance2 = 0;
@@ -365,7 +380,10 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
         diagonal2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
         distance2 += centre[k] * centre[k];
     }
-    if (!std::isfinite(distance2) || !std::isfinite(diagonal2) || distance2 <= diagonal2) return;
+    // Moved beyond 100 diagonals, where float rounding of the coordinates
+    // (6e-8 of the distance) exceeds 6e-6 of the scene's size, 1/500 of the
+    // default merge radius; nearer scenes keep the file's coordinates.
+    if (!std::isfinite(distance2) || !std::isfinite(diagonal2) || distance2 <= 1e4 * diagonal2) return;
     for (int k = 0; k < 3; ++k) scene_.origin[k] = centre[k];
 }
 
