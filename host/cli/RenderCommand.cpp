@@ -123,7 +123,15 @@ static double since(std::chrono::steady_clock::time_point t)
 // Ctrl-C ends the process at once.
 static volatile std::sig_atomic_t interruptSignal = 0;
 
-extern "C" void onInterrupt(int signal) { interruptSignal = signal; }
+extern "C" void onInterrupt(int signal)
+{
+    interruptSignal = signal;
+    // write(2), not stdio: the only output that is safe in a signal handler.
+    static const char message[] =
+        "\nwavevcm: interrupted: finishing the iteration in flight (again to stop at once)\n";
+    ssize_t ignored = ::write(STDERR_FILENO, message, sizeof message - 1);
+    (void)ignored;
+}
 
 static void catchInterrupts()
 {
