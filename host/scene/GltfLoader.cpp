@@ -328,12 +328,11 @@ void Loader::visitNodes()
 
 // A scene far from the origin compared with its size (more than 100 times
 // its diagonal) is moved, camera and lights with it, so that its centre is
-// the origin: the transforms are
-// applied in double and only the moved coordinates are rounded to float,
-// which then keep their full precision relative to the scene's size (at
-// 1e5 units a float resolves only ~0.008: too coarse for ray offsets or a
-// merge radius a thousandth of the scene). Radiance does not change under a
-// translation, so neither does the image.
+// the origin: the transforms are applied in double and only the moved
+// coordinates are rounded to float, which then keep their full precision
+// relative to the scene's size (at 1e5 units a float resolves only ~0.008:
+// too coarse for ray offsets or a merge radius a thousandth of the scene).
+// Radiance does not change under a translation, so neither does the image.
 void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
