@@ -9,6 +9,8 @@
 #include <string>
 #include <thread>
 
+#include <sched.h>
+
 namespace wv {
 
 struct EmbreeReference::Impl {
@@ -41,6 +43,13 @@ EmbreeReference::EmbreeReference(const std::vector<Vec3>& triangleVertices) : im
     rtcAttachGeometry(impl_->scene, geometry);
     rtcReleaseGeometry(geometry);
     rtcCommitScene(impl_->scene);
+    RTCError error = rtcGetDeviceError(impl_->device);
+    if (error != RTC_ERROR_NONE) {
+        rtcReleaseScene(impl_->scene);
+        rtcReleaseDevice(impl_->device);
+        delete impl_;
+        throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(int(error)) + ")");
+    }
 }
 
 EmbreeReference::~EmbreeReference()
@@ -73,6 +82,7 @@ double EmbreeReference::trace(const std::vector<Float4>& origins, const std::vec
             q.ray.flags = 0;
             q.ray.time = 0;
             q.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            q.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
             if (anyHit) {
                 rtcOccluded1(scene, &context, &q.ray);
                 (*t)[i] = q.ray.tfar < 0 ? 0.0f : INFINITY; // tfar = -inf marks an occluded ray
@@ -82,7 +92,12 @@ double EmbreeReference::trace(const std::vector<Float4>& origins, const std::vec
             }
         }
     };
-    unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    // The CPUs this process may run on (affinity and cgroup cpusets), which
+    // is what the OpenCL CPU devices use too.
+    cpu_set_t allowed;
+    unsigned threads = sched_getaffinity(0, sizeof allowed, &allowed) == 0 ? unsigned(CPU_COUNT(&allowed))
+                                                                           : std::thread::hardware_concurrency();
+    threads = std::max(1u, threads);
     auto start = std::chrono::steady_clock::now();
     std::vector<std::thread> pool;
     for (unsigned k = 0; k < threads; ++k) pool.emplace_back(work, n * k / threads, n * (k + 1) / threads);

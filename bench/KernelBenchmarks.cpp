@@ -4,7 +4,7 @@
 //                    (random origins inside the scene, random directions);
 //                    with Embree found at build time, the same rays traced by
 //                    Embree too: counters embree_rays_per_s, vs_embree
-//                    (wavevcm's rate / Embree's) and embree_mismatch (fraction
+//                    (wavevcm's mean rate / Embree's) and embree_mismatch (fraction
 //                    of rays whose hit or occlusion differs);
 //   Kernel/<name>    the render kernels inside real iterations, from OpenCL
 //                    profiling events: path slots/s for generate and the
@@ -34,6 +34,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <random>
 
@@ -178,12 +179,14 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(n));
 #ifdef WAVEVCM_HAVE_EMBREE
-    // Embree on the same rays: the best of three runs, against wavevcm's mean.
+    // Embree on the same rays: the mean of as many runs as wavevcm had
+    // (at least three), against wavevcm's mean, after one warm-up run.
     std::vector<float> reference;
-    double embreeSeconds = INFINITY;
-    for (int run = 0; run < 3; ++run)
-        embreeSeconds = std::min(embreeSeconds, f.embree().trace(origins, directions, anyHit, &reference));
-    double embreeRate = double(n) / embreeSeconds;
+    f.embree().trace(origins, directions, anyHit, &reference);
+    int64_t runs = std::max<int64_t>(3, int64_t(state.iterations()));
+    double embreeSeconds = 0;
+    for (int64_t run = 0; run < runs; ++run) embreeSeconds += f.embree().trace(origins, directions, anyHit, &reference);
+    double embreeRate = double(runs) * double(n) / embreeSeconds;
     state.counters["embree_rays_per_s"] = embreeRate;
     state.counters["vs_embree"] = double(state.iterations()) * double(n) / seconds / embreeRate;
     // Where the two disagree: hit versus miss, or a distance off by more than
@@ -311,9 +314,12 @@ void BM_ProgramBuild(benchmark::State& state)
     bool cached = state.range(0) != 0;
     std::string source = expandKernelSources(findKernelDir(), Renderer::kernelFiles(Algorithm::VertexConnectionMerging));
     std::string options = "-cl-std=CL1.2 -DBIDIRECTIONAL" + f.scene.features().buildOptions();
-    if (cached) buildProgram(device.context, f.device, source, options); // fill the cache
+    // Cached builds use a cache of their own, filled first, whatever
+    // WAVEVCM_CACHE_DIR says (it may be off).
     std::string savedCacheDir = env("WAVEVCM_CACHE_DIR", "");
-    if (!cached) setenv("WAVEVCM_CACHE_DIR", "off", 1);
+    std::string cacheDir = (std::filesystem::temp_directory_path() / "wavevcm-bench-cache").string();
+    setenv("WAVEVCM_CACHE_DIR", cached ? cacheDir.c_str() : "off", 1);
+    if (cached) buildProgram(device.context, f.device, source, options);
     for (auto _ : state) {
         // A declaration, not a comment: PoCL keys its cache on the
         // preprocessed source, from which comments are gone.

@@ -266,9 +266,6 @@ inline void background_hit_pdfs(float pmf, float sceneRadius, float* directPdfW,
     *emissionPdfW = *directPdfW / (PI_F * sceneRadius * sceneRadius);
 }
 
-/* Ray from p towards a point `target` with error bound `targetError` on a
- * surface with normal targetNormal: both ends offset, the segment stopping
- * just short of the far end (pbrt-v4 SpawnRayTo). */
 /* Whether a connection between surface points p and q leaves each on a side
  * that rounding cannot flip: each point lies farther from the other's
  * tangent plane than the two error bounds reach along that plane's normal.
@@ -282,6 +279,9 @@ inline bool connection_resolved(float3 p, float3 pError, float3 np, float3 q, fl
     return fabs(dot(d, np)) > dot(fabs(np), error) && fabs(dot(d, nq)) > dot(fabs(nq), error);
 }
 
+/* Ray from p towards a point `target` with error bound `targetError` on a
+ * surface with normal targetNormal: both ends offset, the segment stopping
+ * just short of the far end (pbrt-v4 SpawnRayTo). */
 inline Ray ray_between(float3 p, float3 pError, float3 n, float3 target, float3 targetError, float3 targetNormal)
 {
     Ray r;

@@ -412,7 +412,8 @@ TEST_F(GltfLoader, ZeroScaleNodeIsSkippedWithAWarning)
 
 // A scene far from the origin compared with its size is moved so that its
 // centre is the origin, in double precision: the triangle 1e5 + 1e-3 away
-// keeps its 1e-3 offsets exactly (a float at 1e5 resolves only 0.0078).
+// keeps its 1e-3 offsets exactly (a float at 1e5 resolves only 0.0078), and
+// so does the camera beside it.
 // A scene near the origin stays where it is.
 TEST_F(GltfLoader, FarSceneIsMovedToTheOriginInDoublePrecision)
 {
@@ -422,7 +423,11 @@ TEST_F(GltfLoader, FarSceneIsMovedToTheOriginInDoublePrecision)
     b.j["accessors"][0]["max"] = {1e30, 1, 0};
     b.j["nodes"][0]["translation"] = {1e5 + 1e-3, 0, 0};
     b.j["nodes"][0]["scale"] = {1e-3, 1e-3, 1e-3};
+    // The camera moves with it.
+    b.j["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.01}}}}});
+    b.addNode({{"camera", 0}, {"translation", {1e5 + 1e-3, 0, 1e-2}}});
     Scene s = load(b);
+    EXPECT_TRUE(near(s.camera.position, {-0.5e-3f, -0.5e-3f, 1e-2f}, 1e-9f));
     EXPECT_DOUBLE_EQ(s.origin[0], 1e5 + 1e-3 + 0.5e-3);
     EXPECT_DOUBLE_EQ(s.origin[1], 0.5e-3);
     EXPECT_TRUE(near(s.vertices[0], {-0.5e-3f, -0.5e-3f, 0}, 1e-9f));

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -117,18 +118,19 @@ static double since(std::chrono::steady_clock::time_point t)
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// Ctrl-C (SIGINT) or SIGTERM during a render: the iteration in flight
-// finishes, the image so far is written, and the exit status is 128 + the
-// signal. The handler is reset on delivery (SA_RESETHAND), so a second
-// Ctrl-C ends the process at once.
-static volatile std::sig_atomic_t interruptSignal = 0;
+// Ctrl-C (SIGINT) or SIGTERM during a render: the step in flight (setup,
+// or the current iteration) finishes, the image so far is written, and the
+// exit status is 128 + the signal. The handler is reset on delivery
+// (SA_RESETHAND), so a second Ctrl-C ends the process at once, except while
+// files are written (WritingFiles), so that none is left half-written.
+static std::atomic<int> interruptSignal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "set from a signal handler");
 
 extern "C" void onInterrupt(int signal)
 {
     interruptSignal = signal;
     // write(2), not stdio: the only output that is safe in a signal handler.
-    static const char message[] =
-        "\nwavevcm: interrupted: finishing the iteration in flight (again to stop at once)\n";
+    static const char message[] = "\nwavevcm: interrupted: finishing the step in flight (again to stop at once)\n";
     ssize_t ignored = ::write(STDERR_FILENO, message, sizeof message - 1);
     (void)ignored;
 }
@@ -137,11 +139,36 @@ static void catchInterrupts()
 {
     struct sigaction action {};
     action.sa_handler = onInterrupt;
-    action.sa_flags = SA_RESETHAND;
+    action.sa_flags = SA_RESETHAND | SA_RESTART;
     sigemptyset(&action.sa_mask);
     sigaction(SIGINT, &action, nullptr);
     sigaction(SIGTERM, &action, nullptr);
 }
+
+// SIGINT and SIGTERM ignored while it lives: the files are written (a
+// moment) and the process ends right after. Ignoring, not blocking: a
+// blocked signal would still reach the driver's threads.
+class WritingFiles {
+public:
+    WritingFiles()
+    {
+        struct sigaction ignore {};
+        ignore.sa_handler = SIG_IGN;
+        sigemptyset(&ignore.sa_mask);
+        sigaction(SIGINT, &ignore, &savedInt_);
+        sigaction(SIGTERM, &ignore, &savedTerm_);
+    }
+    ~WritingFiles()
+    {
+        sigaction(SIGINT, &savedInt_, nullptr);
+        sigaction(SIGTERM, &savedTerm_, nullptr);
+    }
+    WritingFiles(const WritingFiles&) = delete;
+    WritingFiles& operator=(const WritingFiles&) = delete;
+
+private:
+    struct sigaction savedInt_ {}, savedTerm_ {};
+};
 
 static void validate(const RenderOptions& o)
 {
@@ -226,16 +253,18 @@ int runRender(const RenderOptions& o)
     }
     progress.finish();
     int exitCode = 0;
-    if (interruptSignal) {
-        exitCode = 128 + int(interruptSignal);
+    int signal = interruptSignal;
+    if (signal) {
+        exitCode = 128 + signal;
         if (renderer.iterations() == 0) {
             std::fprintf(stderr, "wavevcm: interrupted (%s) before the first iteration: no image written\n",
-                         strsignal(interruptSignal));
+                         strsignal(signal));
             return exitCode;
         }
         std::fprintf(stderr, "wavevcm: interrupted (%s): writing the %d iterations rendered so far\n",
-                     strsignal(interruptSignal), renderer.iterations());
+                     strsignal(signal), renderer.iterations());
     }
+    WritingFiles writing;
 
     Image image = renderer.image();
     uint64_t nonFinite = renderer.nonFiniteCount();

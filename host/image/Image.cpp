@@ -45,6 +45,8 @@ void checkWritable(const std::string& path)
 {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": cannot write: is a directory");
+    if (std::filesystem::exists(path, ec) && ::access(path.c_str(), W_OK) != 0)
+        throw Error(path + ": cannot write: the file is read-only");
     std::filesystem::path probe = partialPath(path);
     {
         std::ofstream out(probe, std::ios::binary);

@@ -351,6 +351,7 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
     for (const auto& [index, world] : placed) {
         int meshIndex = model_.nodes[index].mesh;
         if (meshIndex < 0 || size_t(meshIndex) >= model_.meshes.size()) continue; // addMesh reports it
+        if (determinant3(world) == 0) continue; // a zero-scale instance, which addMesh skips
         const std::vector<tinygltf::Primitive>& primitives = model_.meshes[meshIndex].primitives;
         for (size_t p = 0; p < primitives.size(); ++p) {
             auto pos = primitives[p].attributes.find("POSITION");
