@@ -21,9 +21,9 @@ class EmbreeReference {
     EmbreeReference& operator=(const EmbreeReference&) = delete;
 
     // Traces every ray (origin.xyz; direction.xyz, tMax in direction.w) with
-    // single-ray queries on every CPU the process may use. Closest hit: (*t)[i] is the
-    // hit distance or INFINITY. Any hit: 0 if occluded, INFINITY if not.
-    // Returns the wall seconds the queries took.
+    // single-ray queries on every CPU the process may use. Closest hit:
+    // (*t)[i] is the hit distance or INFINITY. Any hit: 0 if occluded,
+    // INFINITY if not. Returns the wall seconds the queries took.
     double trace(const std::vector<Float4>& origins, const std::vector<Float4>& directions, bool anyHit,
                  std::vector<float>* t) const;
 

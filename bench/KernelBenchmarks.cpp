@@ -74,9 +74,7 @@ struct Fixture {
 #endif
 };
 
-#ifndef WAVEVCM_HAVE_EMBREE
-using Float4 = std::array<float, 4>;
-#endif
+using Float4 = std::array<float, 4>; // as in EmbreeReference.h
 
 // Rays for the ray benchmarks: coherent camera rays over the image, or
 // incoherent rays from random points in the scene's bounds.

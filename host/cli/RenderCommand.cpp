@@ -172,8 +172,8 @@ private:
 
 static void validate(const RenderOptions& o)
 {
-    if (o.spp < 0 || (o.sppGiven && o.spp == 0)) throw Error("--spp must be positive");
-    if (o.seconds < 0 || (o.secondsGiven && o.seconds == 0) || !std::isfinite(o.seconds))
+    if (o.sppGiven && o.spp <= 0) throw Error("--spp must be positive");
+    if (o.secondsGiven && !(o.seconds > 0 && std::isfinite(o.seconds)))
         throw Error("--time must be a positive number of seconds");
     if (o.width < 0 || o.height < 0 || o.width > 32768 || o.height > 32768)
         throw Error("--width and --height must be between 1 and 32768");

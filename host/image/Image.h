@@ -25,8 +25,9 @@ void writeImage(const std::string& path, const Image& image);
 void writeExrLayers(const std::string& path, const std::vector<std::string>& names, const std::vector<Image>& images);
 
 // Throws wv::Error (naming the file and why) unless a file can be created
-// beside `path`, and `path` itself is neither a directory nor read-only: checked before a
-// render, so that a long render does not end at an unwritable path.
+// beside `path`, and `path` itself is neither a directory nor read-only:
+// checked before a render, so that a long render does not end at an
+// unwritable path.
 void checkWritable(const std::string& path);
 
 // Any format OpenImageIO reads; the first three channels (grey is replicated).

@@ -347,7 +347,7 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
     // min/max, which may be wrong), once; every instance then adds the
     // corners of that box, transformed: a bound of the scene, enough to
     // pick a centre.
-    std::map<int, std::pair<Vec3, Vec3>> localBounds;
+    std::map<int, Bounds> localBounds;
     for (const auto& [index, world] : placed) {
         int meshIndex = model_.nodes[index].mesh;
         if (meshIndex < 0 || size_t(meshIndex) >= model_.meshes.size()) continue; // addMesh reports it
@@ -358,20 +358,16 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
             if (pos == primitives[p].attributes.end()) continue;
             auto known = localBounds.find(pos->second);
             if (known == localBounds.end()) {
-                Vec3 boxLo(INFINITY, INFINITY, INFINITY), boxHi(-INFINITY, -INFINITY, -INFINITY);
+                Bounds box;
                 std::string what = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
                 for (const Vec3& v : readVec3(pos->second, what + " POSITION"))
-                    if (isFinite(v)) // addMesh rejects the others
-                        for (int k = 0; k < 3; ++k) {
-                            boxLo[k] = std::min(boxLo[k], v[k]);
-                            boxHi[k] = std::max(boxHi[k], v[k]);
-                        }
-                known = localBounds.emplace(pos->second, std::make_pair(boxLo, boxHi)).first;
+                    if (isFinite(v)) box.extend(v); // addMesh rejects the others
+                known = localBounds.emplace(pos->second, box).first;
             }
-            const auto& [boxLo, boxHi] = known->second;
-            if (!(boxLo.x <= boxHi.x)) continue; // no finite position
+            const Bounds& box = known->second;
+            if (box.empty()) continue; // no finite position
             for (int c = 0; c < 8; ++c)
-                include(world, (c & 1 ? boxHi : boxLo).x, (c & 2 ? boxHi : boxLo).y, (c & 4 ? boxHi : boxLo).z);
+                include(world, (c & 1 ? box.hi : box.lo).x, (c & 2 ? box.hi : box.lo).y, (c & 4 ? box.hi : box.lo).z);
         }
     }
     double centre[3], diagonal2 = 0, distance2 = 0;
