@@ -137,32 +137,24 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
                radiance = deviceBuffer(device, n * 16, "radiance");
     device.queue.enqueueFillBuffer(radiance, 0.0f, 0, n * 16);
     cl::Kernel k(program, anyHit ? "connect" : "extend");
-    if (anyHit) {
-        int arg = 0;
-        k.setArg(arg++, int(n));
-        k.setArg(arg++, itemBuffer);
-        k.setArg(arg++, counterBuffer);
-        k.setArg(arg++, scene.nodes);
-        k.setArg(arg++, scene.triVertices);
-        k.setArg(arg++, o);
-        k.setArg(arg++, d);
-        k.setArg(arg++, contribution);
-        k.setArg(arg++, pixels);
-        k.setArg(arg++, radiance);
-    } else {
-        int arg = 0;
-        k.setArg(arg++, int(n));
-        k.setArg(arg++, int(QUEUE_RAYS(0)));
-        k.setArg(arg++, itemBuffer);
-        k.setArg(arg++, counterBuffer);
-        k.setArg(arg++, scene.nodes);
-        k.setArg(arg++, scene.triVertices);
-        k.setArg(arg++, o);
-        k.setArg(arg++, d);
-        k.setArg(arg++, t);
-        k.setArg(arg++, tri);
-        k.setArg(arg++, bary);
-    }
+    KernelBuffers buffers;
+    buffers.nodes = scene.nodes;
+    buffers.triVertices = scene.triVertices;
+    buffers.queueItems = itemBuffer;
+    buffers.queueCounters = counterBuffer;
+    (anyHit ? buffers.shadowOrigins : buffers.rayOrigins) = o;
+    (anyHit ? buffers.shadowDirections : buffers.rayDirections) = d;
+    buffers.shadowContribution = contribution;
+    buffers.pathPixel = pixels;
+    buffers.pixelRadiance = radiance;
+    buffers.hitT = t;
+    buffers.hitTriangle = tri;
+    buffers.hitBary = bary;
+    LaunchParams params{};
+    params.capacity = int(n);
+    params.rayQueue = QUEUE_RAYS(0);
+    bindBuffers(k, buffers);
+    setLaunchParams(k, params);
     size_t global = (n + 63) / 64 * 64;
     double seconds = 0;
     for (auto _ : state) {

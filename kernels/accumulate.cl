@@ -7,33 +7,31 @@
  * vertex merging; with `techniques` each family also gets a running mean of
  * its own (three float4 per pixel in familyMeans). A sample that is NaN or
  * Inf is dropped (counted as zero) and counted; it never reaches the image. */
-#include "queue_ids.h"
+#include "kernel_interface.h"
 
-inline float4 take(__global float4* buffer, int pixel)
+static inline float4 take(__global float4* buffer, int pixel)
 {
     float4 x = buffer[pixel];
     buffer[pixel] = (float4)(0.0f);
     return x;
 }
 
-__kernel void accumulate(__global float4* unidirectional, __global float4* connection, __global float4* merging,
-                         __global float4* splats, int pixels, uint iteration, __global float4* framebuffer,
-                         __global int* queueCounters, int techniques, __global float4* familyMeans)
+__kernel void accumulate(RENDER_KERNEL_PARAMS)
 {
     int pixel = get_global_id(0);
-    if (pixel >= pixels)
+    if (pixel >= params.pixels)
         return;
-    float4 family[3] = {take(unidirectional, pixel), take(connection, pixel) + take(splats, pixel),
-                        take(merging, pixel)};
+    float4 family[3] = {take(pixelRadiance, pixel), take(connectionRadiance, pixel) + take(splatRadiance, pixel),
+                        take(mergingRadiance, pixel)};
     float4 x = family[0] + family[1] + family[2];
     if (!all(isfinite(x.xyz))) {
         atomic_inc(&queueCounters[COUNTER_INDEX(COUNTER_NONFINITE)]);
         x = family[0] = family[1] = family[2] = (float4)(0.0f);
     }
-    float inv = 1.0f / (float)(iteration + 1);
+    float inv = 1.0f / (float)(params.iteration + 1);
     float4 mean = framebuffer[pixel];
     framebuffer[pixel] = mean + (x - mean) * inv;
-    if (techniques)
+    if (params.techniques)
         for (int f = 0; f < 3; ++f) {
             float4 m = familyMeans[3 * pixel + f];
             familyMeans[3 * pixel + f] = m + (family[f] - m) * inv;

@@ -23,7 +23,7 @@ typedef struct Hit {
  * enlarged by 1 + 2γ(3) (Ize, "Robust BVH Ray Traversal", JCGT 2013) so
  * rounding never culls a box the ray touches, which keeps the watertight
  * triangle test watertight through the tree. */
-inline bool ray_hits_box(float3 origin, float3 invDir, float3 lo, float3 hi, float tMax)
+static inline bool ray_hits_box(float3 origin, float3 invDir, float3 lo, float3 hi, float tMax)
 {
     float3 t0 = (lo - origin) * invDir, t1 = (hi - origin) * invDir;
     t0 = select(t0, -invDir, isnan(t0));
@@ -34,11 +34,11 @@ inline bool ray_hits_box(float3 origin, float3 invDir, float3 lo, float3 hi, flo
     return enter <= leave;
 }
 
-inline float3 load_float3(__global const float* p) { return (float3)(p[0], p[1], p[2]); }
+static inline float3 load_float3(__global const float* p) { return (float3)(p[0], p[1], p[2]); }
 
 /* Returns whether anything was hit before ray.tMax. With anyHit the first hit
  * found ends the search and *hit holds that hit, not the closest. */
-inline bool trace_ray(__global const BvhNode* nodes, __global const float4* triVertices, Ray ray,
+static inline bool trace_ray(__global const BvhNode* nodes, __global const float4* triVertices, Ray ray,
                       bool anyHit, Hit* hit)
 {
     ShearedRay sheared = shear_ray(ray);

@@ -7,7 +7,7 @@
 #include "shared_types.h"
 #include "ray.h"
 
-inline Ray camera_ray(__constant const Camera* cam, int pixel, float2 jitter)
+static inline Ray camera_ray(__constant const Camera* cam, int pixel, float2 jitter)
 {
     float x = (float)(pixel % cam->width) + jitter.x;
     float y = (float)(pixel / cam->width) + jitter.y;
@@ -24,7 +24,7 @@ inline Ray camera_ray(__constant const Camera* cam, int pixel, float2 jitter)
  * is chosen uniformly over one pixel: the image plane sits where a pixel has
  * area 1, at distance H / (2 tan(fov/2)), and the density is
  * distance(image point)² / cos θ (SmallVCM's convention). */
-inline float camera_pdf_w(__constant const Camera* cam, float3 d)
+static inline float camera_pdf_w(__constant const Camera* cam, float3 d)
 {
     float cosAtCamera = dot(d, vload3(0, cam->forward));
     if (cosAtCamera <= 0.0f)
@@ -36,7 +36,7 @@ inline float camera_pdf_w(__constant const Camera* cam, float3 d)
 
 /* The pixel a world point projects to, or -1 when it is behind the camera
  * or outside the image. */
-inline int camera_pixel(__constant const Camera* cam, float3 point)
+static inline int camera_pixel(__constant const Camera* cam, float3 point)
 {
     float3 d = point - vload3(0, cam->position);
     float depth = dot(d, vload3(0, cam->forward));

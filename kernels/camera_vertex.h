@@ -5,6 +5,7 @@
 #define WAVEVCM_CAMERA_VERTEX_H
 
 #include "bsdf.h"
+#include "kernel_interface.h"
 #include "mis.h"
 #include "surface.h"
 
@@ -16,20 +17,16 @@ typedef struct CameraVertex {
     float continuation;
 } CameraVertex;
 
-inline CameraVertex camera_vertex(int slot, __global const float4* triVertices, __global const float4* triNormals,
-                                  __global const int* triMaterials, __global const Material* materials,
-                                  __global const float4* rayDirections, __global const float* hitT,
-                                  __global const int* hitTriangle, __global const float2* hitBary,
-                                  __global const float4* pathMis)
+static inline CameraVertex camera_vertex(const RenderBuffers* b, int slot)
 {
     CameraVertex v;
-    int tri = hitTriangle[slot];
-    float3 wo = -rayDirections[slot].xyz;
-    v.hit = surface_hit(triVertices, triNormals, tri, hitBary[slot], wo);
+    int tri = b->hitTriangle[slot];
+    float3 wo = -b->rayDirections[slot].xyz;
+    v.hit = surface_hit(b->triVertices, b->triNormals, tri, b->hitBary[slot], wo);
     v.woL = to_local(&v.hit.frame, wo);
-    v.bsdf = make_bsdf(&materials[triMaterials[tri]], v.woL, v.hit.frontSide);
-    v.mis = load_mis(pathMis, slot);
-    mis_at_hit(&v.mis, hitT[slot], fabs(v.woL.z), true);
+    v.bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], v.woL, v.hit.frontSide);
+    v.mis = load_mis(b->pathMis, slot);
+    mis_at_hit(&v.mis, b->hitT[slot], fabs(v.woL.z), true);
     v.continuation = continuation_probability(&v.bsdf);
     return v;
 }

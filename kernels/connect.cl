@@ -10,13 +10,9 @@
 #include "path_state.h"
 #include "queues.h"
 
-__kernel void connect(int capacity, __global const int* queueItems, __global const int* queueCounters,
-                      __global const BvhNode* nodes, __global const float4* triVertices,
-                      __global const float4* shadowOrigins, __global const float4* shadowDirections,
-                      __global const float4* shadowContribution, __global const int* pathPixel,
-                      __global float4* pixelRadiance)
+__kernel void connect(RENDER_KERNEL_PARAMS)
 {
-    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_SHADOW, get_global_id(0));
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
     if (slot < 0)
         return;
     Hit hit;
@@ -25,7 +21,7 @@ __kernel void connect(int capacity, __global const int* queueItems, __global con
 }
 
 /* *p += v as a compare-and-swap loop: OpenCL 1.2 has no float atomics. */
-inline void atomic_add_float(volatile __global float* p, float v)
+static inline void atomic_add_float(volatile __global float* p, float v)
 {
     union {
         uint u;
@@ -37,20 +33,16 @@ inline void atomic_add_float(volatile __global float* p, float v)
     } while (atomic_cmpxchg((volatile __global uint*)p, expected.u, desired.u) != expected.u);
 }
 
-__kernel void connect_splat(int capacity, __global const int* queueItems, __global const int* queueCounters,
-                            __global const BvhNode* nodes, __global const float4* triVertices,
-                            __global const float4* shadowOrigins, __global const float4* shadowDirections,
-                            __global const float4* shadowContribution, __global const int* shadowPixel,
-                            __global float* splatRadiance)
+__kernel void connect_splat(RENDER_KERNEL_PARAMS)
 {
-    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_SHADOW, get_global_id(0));
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
     if (slot < 0)
         return;
     Hit hit;
     if (trace_ray(nodes, triVertices, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
         return;
     float4 c = shadowContribution[slot];
-    volatile __global float* pixel = splatRadiance + 4 * shadowPixel[slot];
+    volatile __global float* pixel = (volatile __global float*)(splatRadiance + shadowPixel[slot]);
     atomic_add_float(pixel, c.x);
     atomic_add_float(pixel + 1, c.y);
     atomic_add_float(pixel + 2, c.z);

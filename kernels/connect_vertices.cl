@@ -13,25 +13,16 @@
 #include "queues.h"
 #include "surface.h"
 
-__kernel void connect_vertices(int capacity, __global const int* queueItems, __global const int* queueCounters,
-                               __global const BvhNode* nodes, __global const float4* triVertices,
-                               __global const float4* triNormals, __global const int* triMaterials,
-                               __global const Material* materials, int maxPathLength, float vmWeightFactor,
-                               __global const float4* rayDirections, __global const float* hitT,
-                               __global const int* hitTriangle, __global const float2* hitBary,
-                               __global const int* pathPixel, __global const int* pathDepth,
-                               __global const float4* pathThroughput, __global const float4* pathMis,
-                               __global const LightVertex* lightVertices, int firstLightPath,
-                               __global const int* lightPathHead, __global float4* pixelRadiance)
+__kernel void connect_vertices(RENDER_KERNEL_PARAMS)
 {
-    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot < 0)
         return;
-    int depth = pathDepth[slot];
-    if (depth + 2 > maxPathLength) /* even the first light vertex would make the path too long */
+    int depth = hit_depth(pathDepth, slot);
+    if (!path_fits(depth + 1 + 1, params.maxPathLength)) /* even the first light vertex makes it too long */
         return;
-    CameraVertex cv = camera_vertex(slot, triVertices, triNormals, triMaterials, materials, rayDirections, hitT,
-                                    hitTriangle, hitBary, pathMis);
+    CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;
     SurfaceHit hit = cv.hit;
@@ -43,9 +34,9 @@ __kernel void connect_vertices(int capacity, __global const int* queueItems, __g
     int pixel = pathPixel[slot];
 
     float3 L = (float3)(0.0f);
-    for (int v = lightPathHead[pixel - firstLightPath]; v >= 0; v = lightVertices[v].prev) {
+    for (int v = lightPathHead[pixel - params.firstLightPath]; v >= 0; v = lightVertices[v].prev) {
         __global const LightVertex* lv = &lightVertices[v];
-        if (lv->pathLength + 1 + depth > maxPathLength)
+        if (!path_fits(depth + lv->pathLength + 1, params.maxPathLength))
             continue; /* vertices go from the deepest back: shallower ones may still fit */
         float3 toLight = vload3(0, lv->toLight);
         SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, (float2)(lv->b1, lv->b2), toLight);
@@ -78,7 +69,7 @@ __kernel void connect_vertices(int capacity, __global const int* queueItems, __g
         float geometry = cosCamera * cosLight / dist2;
         PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
         float w = mis_weight_connection(lightMis, mis, cameraFwd * cosLight / dist2, lightFwd * cosCamera / dist2,
-                                        lightRev, cameraRev, vmWeightFactor);
+                                        lightRev, cameraRev, params.vmWeightFactor);
         float3 c = (w * geometry) * beta * fCamera * fLight * vload3(0, lv->throughput);
         Hit occluder;
         if (!trace_ray(nodes, triVertices,
@@ -87,5 +78,5 @@ __kernel void connect_vertices(int capacity, __global const int* queueItems, __g
             L += c;
     }
     if (any(L != 0.0f))
-        pixelRadiance[pixel] += (float4)(L, 0.0f);
+        connectionRadiance[pixel] += (float4)(L, 0.0f);
 }

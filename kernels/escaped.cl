@@ -8,23 +8,18 @@
 #include "path_state.h"
 #include "queues.h"
 
-__kernel void escaped(int capacity, int freeQueue, __global int* queueItems, __global int* queueCounters,
-                      int cameraPaths, __global const Light* lights, __constant const SceneInfo* scene,
-                      __global const int* pathPixel, __global const int* pathDepth,
-                      __global const float4* pathThroughput, __global const float* pathPrevPdf,
-                      __global const float4* pathMis, __global const int* pathFlags,
-                      __global float4* pixelRadiance)
+__kernel void escaped(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[2];
-    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_ESCAPED, get_global_id(0));
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_ESCAPED, get_global_id(0));
 #if defined(HAS_BACKGROUND) && !defined(EYE_LIGHT)
-    if (slot >= 0 && cameraPaths && scene->backgroundLight >= 0) {
+    if (slot >= 0 && params.cameraPaths && scene->backgroundLight >= 0) {
         __global const Light* bg = &lights[scene->backgroundLight];
         float w = 1.0f; /* seen directly, or through delta scattering only */
 #if defined(VERTEX_MERGING_ONLY)
         w = (pathFlags[slot] & PATH_SPECULAR) ? 1.0f : 0.0f; /* merging covers the rest */
 #elif defined(BIDIRECTIONAL)
-        if (pathDepth[slot] > 1) {
+        if (hit_depth(pathDepth, slot) > 1) { /* not the camera ray */
             PathMis mis = load_mis(pathMis, slot);
             float directPdfW, emissionPdfW;
             background_hit_pdfs(bg->pmf, scene->radius, &directPdfW, &emissionPdfW);
@@ -39,5 +34,5 @@ __kernel void escaped(int capacity, int freeQueue, __global int* queueItems, __g
         pixelRadiance[pathPixel[slot]] += (float4)(w * pathThroughput[slot].xyz * vload3(0, bg->emission), 0.0f);
     }
 #endif
-    queue_push(queueItems, queueCounters, capacity, freeQueue, slot >= 0, slot, scratch);
+    queue_push(queueItems, queueCounters, params.capacity, params.nextFreeQueue, slot >= 0, slot, scratch);
 }

@@ -4,13 +4,10 @@
 #include "path_state.h"
 #include "queues.h"
 
-__kernel void extend(int capacity, int rayQueue, __global int* queueItems, __global int* queueCounters,
-                     __global const BvhNode* nodes, __global const float4* triVertices,
-                     __global const float4* rayOrigins, __global const float4* rayDirections,
-                     __global float* hitT, __global int* hitTriangle, __global float2* hitBary)
+__kernel void extend(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[2];
-    int slot = queue_item(queueItems, queueCounters, capacity, rayQueue, get_global_id(0));
+    int slot = queue_item(queueItems, queueCounters, params.capacity, params.rayQueue, get_global_id(0));
     bool found = false;
     if (slot >= 0) {
         Hit hit;
@@ -19,6 +16,6 @@ __kernel void extend(int capacity, int rayQueue, __global int* queueItems, __glo
         hitT[slot] = found ? hit.t : INFINITY;
         hitBary[slot] = (float2)(hit.b1, hit.b2);
     }
-    queue_push(queueItems, queueCounters, capacity, QUEUE_HITS, slot >= 0 && found, slot, scratch);
-    queue_push(queueItems, queueCounters, capacity, QUEUE_ESCAPED, slot >= 0 && !found, slot, scratch);
+    queue_push(queueItems, queueCounters, params.capacity, QUEUE_HITS, slot >= 0 && found, slot, scratch);
+    queue_push(queueItems, queueCounters, params.capacity, QUEUE_ESCAPED, slot >= 0 && !found, slot, scratch);
 }

@@ -1,12 +1,11 @@
-/* generate: start new paths in the first `count` free slots and append
- * their first rays to the ray queue. The host knows how many samples were
- * handed out and how long the ray queue is, so no atomics are needed: item i
- * takes sample firstSample + i and ray-queue entry rayQueueLength + i.
+/* generate: start new paths in the first `generateCount` free slots and
+ * append their first rays to the ray queue. The host knows how many samples
+ * were handed out and how long the ray queue is, so no atomics are needed:
+ * item i takes sample firstSample + i and ray-queue entry rayQueueLength + i.
  *   generate        camera paths, one per pixel (pixel = sample index), with a
  *                   jittered primary ray (box filter);
  *   generate_light  light paths (light path index = sample index) from a light
- *                   chosen by power, by emission sampling.
- * Both share the leading arguments, which the host sets every round. */
+ *                   chosen by power, by emission sampling. */
 #include "camera.h"
 #include "lights.h"
 #include "mis.h"
@@ -14,59 +13,45 @@
 #include "queues.h"
 #include "rng.h"
 
-inline int take_free_slot(__global int* queueItems, __global int* queueCounters, int capacity, int freeQueue,
-                          int rayQueue, int count, int rayQueueLength)
+static inline int take_free_slot(__global int* queueItems, __global int* queueCounters, const LaunchParams* p)
 {
     int i = get_global_id(0);
     if (i == 0)
-        queueCounters[COUNTER_INDEX(rayQueue)] = rayQueueLength + count;
-    if (i >= count)
+        queueCounters[COUNTER_INDEX(p->rayQueue)] = p->rayQueueLength + p->generateCount;
+    if (i >= p->generateCount)
         return -1;
-    int slot = queueItems[freeQueue * capacity + i];
-    queueItems[rayQueue * capacity + rayQueueLength + i] = slot;
+    int slot = queueItems[p->freeQueue * p->capacity + i];
+    queueItems[p->rayQueue * p->capacity + p->rayQueueLength + i] = slot;
     return slot;
 }
 
-__kernel void generate(int capacity, int freeQueue, int rayQueue, int count, int firstSample, int rayQueueLength,
-                       uint iteration, __global int* queueItems, __global int* queueCounters,
-                       __constant const Camera* camera, uint seed, float lightTracePaths,
-                       __global float4* rayOrigins, __global float4* rayDirections, __global int* pathPixel,
-                       __global int* pathDepth, __global float4* pathThroughput, __global float* pathPrevPdf,
-                       __global float4* pathMis, __global int* pathFlags)
+__kernel void generate(RENDER_KERNEL_PARAMS)
 {
-    int slot = take_free_slot(queueItems, queueCounters, capacity, freeQueue, rayQueue, count, rayQueueLength);
+    int slot = take_free_slot(queueItems, queueCounters, &params);
     if (slot < 0)
         return;
-    int sample = firstSample + (int)get_global_id(0);
-    float4 u = rng_uniform4(seed, iteration, (uint)sample, 0u, 0u);
+    int sample = params.firstSample + (int)get_global_id(0);
+    float4 u = rng_uniform4(params.seed, params.iteration, (uint)sample, 0u, 0u);
     Ray ray = camera_ray(camera, sample, u.xy);
     store_ray(rayOrigins, rayDirections, slot, ray);
     pathPixel[slot] = sample;
-    pathDepth[slot] = 1; /* the camera segment */
+    pathDepth[slot] = 0;
     pathThroughput[slot] = (float4)(1.0f);
     pathPrevPdf[slot] = 0.0f; /* what the camera sees directly gets full weight */
 #ifdef BIDIRECTIONAL
-    store_mis(pathMis, slot, mis_camera_start(lightTracePaths, camera_pdf_w(camera, ray.direction)));
+    store_mis(pathMis, slot, mis_camera_start(params.lightTracePaths, camera_pdf_w(camera, ray.direction)));
     pathFlags[slot] = PATH_SPECULAR;
 #endif
 }
 
-__kernel void generate_light(int capacity, int freeQueue, int rayQueue, int count, int firstSample,
-                             int rayQueueLength, uint iteration, __global int* queueItems,
-                             __global int* queueCounters, __global const Light* lights,
-                             __global const float* lightCdf, __global const float4* triVertices,
-                             __constant const SceneInfo* scene, uint seed, float vcWeightFactor,
-                             __global float4* rayOrigins, __global float4* rayDirections, __global int* pathPixel,
-                             __global int* pathDepth, __global float4* pathThroughput, __global float4* pathMis,
-                             __global int* pathFlags, __global int* pathLastVertex, int firstLightPath,
-                             __global int* lightPathHead)
+__kernel void generate_light(RENDER_KERNEL_PARAMS)
 {
-    int slot = take_free_slot(queueItems, queueCounters, capacity, freeQueue, rayQueue, count, rayQueueLength);
+    int slot = take_free_slot(queueItems, queueCounters, &params);
     if (slot < 0)
         return;
-    int lightPath = firstSample + (int)get_global_id(0);
-    float4 u = rng_uniform4(seed, iteration, (uint)lightPath, 0u, 2u);
-    float4 v = rng_uniform4(seed, iteration, (uint)lightPath, 0u, 3u);
+    int lightPath = params.firstSample + (int)get_global_id(0);
+    float4 u = rng_uniform4(params.seed, params.iteration, (uint)lightPath, 0u, 2u);
+    float4 v = rng_uniform4(params.seed, params.iteration, (uint)lightPath, 0u, 3u);
     EmissionSample e;
     Ray ray;
     float3 beta = (float3)(0.0f); /* a failed sample travels with nothing to carry and stores nothing */
@@ -77,7 +62,7 @@ __kernel void generate_light(int capacity, int freeQueue, int rayQueue, int coun
         float emissionPdfW = e.pdfPosition * e.pdfDirection;
         beta = e.radiance * (e.cosAtLight / emissionPdfW);
         mis = mis_light_start(e.directPdf, emissionPdfW, e.cosAtLight, e.finite, e.deltaPosition || e.deltaDirection,
-                              vcWeightFactor);
+                              params.vcWeightFactor);
         ray.origin = e.light >= 0 && lights[e.light].type == LIGHT_TRIANGLE
                          ? offset_ray_origin(e.position, e.positionError, e.normal, e.direction)
                          : e.position;
@@ -94,5 +79,5 @@ __kernel void generate_light(int capacity, int freeQueue, int rayQueue, int coun
     store_mis(pathMis, slot, mis);
     pathFlags[slot] = finite ? PATH_FINITE_LIGHT : 0;
     pathLastVertex[slot] = -1;
-    lightPathHead[lightPath - firstLightPath] = -1;
+    lightPathHead[lightPath - params.firstLightPath] = -1;
 }

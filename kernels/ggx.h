@@ -7,7 +7,7 @@
 
 #include "sampling.h"
 
-inline float ggx_d(float3 h, float alpha)
+static inline float ggx_d(float3 h, float alpha)
 {
     if (h.z <= 0.0f)
         return 0.0f;
@@ -17,7 +17,7 @@ inline float ggx_d(float3 h, float alpha)
 }
 
 /* Smith Λ(w) = (−1 + sqrt(1 + α² tan²θ)) / 2. */
-inline float ggx_lambda(float3 w, float alpha)
+static inline float ggx_lambda(float3 w, float alpha)
 {
     float cos2 = w.z * w.z;
     if (cos2 <= 0.0f)
@@ -26,21 +26,21 @@ inline float ggx_lambda(float3 w, float alpha)
     return 0.5f * (-1.0f + sqrt(1.0f + alpha * alpha * tan2));
 }
 
-inline float ggx_g1(float3 w, float alpha) { return 1.0f / (1.0f + ggx_lambda(w, alpha)); }
+static inline float ggx_g1(float3 w, float alpha) { return 1.0f / (1.0f + ggx_lambda(w, alpha)); }
 
-inline float ggx_g(float3 wo, float3 wi, float alpha)
+static inline float ggx_g(float3 wo, float3 wi, float alpha)
 {
     return 1.0f / (1.0f + ggx_lambda(wo, alpha) + ggx_lambda(wi, alpha));
 }
 
 /* Density of visible normals seen from wo (wo.z > 0):
  * D_wo(h) = G1(wo) · max(0, wo·h) · D(h) / wo.z. */
-inline float ggx_visible_pdf(float3 wo, float3 h, float alpha)
+static inline float ggx_visible_pdf(float3 wo, float3 h, float alpha)
 {
     return ggx_g1(wo, alpha) * fmax(0.0f, dot(wo, h)) * ggx_d(h, alpha) / wo.z;
 }
 
-inline float3 ggx_sample_visible(float3 wo, float alpha, float2 u)
+static inline float3 ggx_sample_visible(float3 wo, float alpha, float2 u)
 {
     /* Stretch to the hemisphere configuration, sample a projected disk,
      * unstretch. */

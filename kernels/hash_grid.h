@@ -5,21 +5,21 @@
 #ifndef WAVEVCM_HASH_GRID_H
 #define WAVEVCM_HASH_GRID_H
 
-inline int3 grid_cell(float3 p, float cellSize)
+static inline int3 grid_cell(float3 p, float cellSize)
 {
     float3 c = floor(p / cellSize);
     return (int3)((int)c.x, (int)c.y, (int)c.z);
 }
 
 /* Teschner et al.'s spatial hash, as in SmallVCM. */
-inline uint grid_bucket(int3 cell, uint cellCount)
+static inline uint grid_bucket(int3 cell, uint cellCount)
 {
     return (((uint)cell.x * 73856093u) ^ ((uint)cell.y * 19349663u) ^ ((uint)cell.z * 83492791u)) % cellCount;
 }
 
 /* The buckets of the 2×2×2 cells nearest x, with duplicates (two cells
  * hashing to one bucket) replaced by -1 so no vertex is visited twice. */
-inline void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buckets[8])
+static inline void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buckets[8])
 {
     float3 scaled = x / cellSize;
     float3 base = floor(scaled);

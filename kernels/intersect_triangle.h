@@ -24,9 +24,9 @@ typedef struct ShearedRay {
     float sx, sy, sz;
 } ShearedRay;
 
-inline float component(float3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
+static inline float component(float3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 
-inline ShearedRay shear_ray(Ray ray)
+static inline ShearedRay shear_ray(Ray ray)
 {
     ShearedRay s;
     float3 a = fabs(ray.direction);
@@ -46,7 +46,7 @@ inline ShearedRay shear_ray(Ray ray)
 
 /* Returns true and sets *t, *b1, *b2 (barycentrics of v1 and v2) if the ray
  * hits the triangle with 0 < t < tMax. */
-inline bool intersect_triangle(const ShearedRay* s, float3 v0, float3 v1, float3 v2, float tMax,
+static inline bool intersect_triangle(const ShearedRay* s, float3 v0, float3 v1, float3 v2, float tMax,
                                float* t, float* b1, float* b2)
 {
     float3 A = v0 - s->origin, B = v1 - s->origin, C = v2 - s->origin;

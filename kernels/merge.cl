@@ -12,22 +12,13 @@
 #include "queues.h"
 #include "surface.h"
 
-__kernel void merge(int capacity, __global const int* queueItems, __global const int* queueCounters,
-                    __global const float4* triVertices, __global const float4* triNormals,
-                    __global const int* triMaterials, __global const Material* materials, int maxPathLength,
-                    float radius, float vmNormalization, float vcWeightFactor,
-                    __global const float4* rayDirections, __global const float* hitT,
-                    __global const int* hitTriangle, __global const float2* hitBary, __global const int* pathPixel,
-                    __global const int* pathDepth, __global const float4* pathThroughput,
-                    __global const float4* pathMis, __global const LightVertex* lightVertices,
-                    __global const int* bucketStarts, __global const int* bucketVertices, uint cellCount,
-                    __global float4* pixelRadiance)
+__kernel void merge(RENDER_KERNEL_PARAMS)
 {
-    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot < 0)
         return;
-    CameraVertex cv = camera_vertex(slot, triVertices, triNormals, triMaterials, materials, rayDirections, hitT,
-                                    hitTriangle, hitBary, pathMis);
+    CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;
     SurfaceHit hit = cv.hit;
@@ -35,11 +26,11 @@ __kernel void merge(int capacity, __global const int* queueItems, __global const
     Bsdf bsdf = cv.bsdf;
     PathMis mis = cv.mis;
     float contCamera = cv.continuation;
-    int depth = pathDepth[slot];
-    float radius2 = radius * radius;
+    int depth = hit_depth(pathDepth, slot);
+    float radius2 = params.mergeRadius * params.mergeRadius;
 
     int buckets[8];
-    grid_query_buckets(hit.p, 2.0f * radius, cellCount, buckets);
+    grid_query_buckets(hit.p, 2.0f * params.mergeRadius, params.cellCount, buckets);
     float3 sum = (float3)(0.0f);
     for (int k = 0; k < 8; ++k) {
         if (buckets[k] < 0)
@@ -48,7 +39,7 @@ __kernel void merge(int capacity, __global const int* queueItems, __global const
         for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
             __global const LightVertex* lv = &lightVertices[bucketVertices[j]];
             float3 d = vload3(0, lv->position) - hit.p;
-            if (dot(d, d) > radius2 || lv->pathLength + depth > maxPathLength)
+            if (dot(d, d) > radius2 || !path_fits(depth + lv->pathLength, params.maxPathLength))
                 continue;
             /* The light arrives along the light vertex's incoming direction. */
             float3 toLight = vload3(0, lv->toLight);
@@ -62,11 +53,11 @@ __kernel void merge(int capacity, __global const int* queueItems, __global const
             float w = 1.0f;
 #ifndef PPM
             PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
-            w = mis_weight_merge(lightMis, mis, pdfFwd * contCamera, pdfRev * lv->continuation, vcWeightFactor);
+            w = mis_weight_merge(lightMis, mis, pdfFwd * contCamera, pdfRev * lv->continuation, params.vcWeightFactor);
 #endif
             sum += w * f * vload3(0, lv->throughput);
         }
     }
     if (any(sum != 0.0f))
-        pixelRadiance[pathPixel[slot]] += (float4)(pathThroughput[slot].xyz * sum * vmNormalization, 0.0f);
+        mergingRadiance[pathPixel[slot]] += (float4)(pathThroughput[slot].xyz * sum * params.vmNormalization, 0.0f);
 }

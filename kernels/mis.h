@@ -11,20 +11,20 @@ typedef struct PathMis {
     float dVCM, dVC, dVM;
 } PathMis;
 
-inline PathMis load_mis(__global const float4* m, int slot)
+static inline PathMis load_mis(__global const float4* m, int slot)
 {
     float4 v = m[slot];
     PathMis r = {v.x, v.y, v.z};
     return r;
 }
 
-inline void store_mis(__global float4* m, int slot, PathMis v) { m[slot] = (float4)(v.dVCM, v.dVC, v.dVM, 0.0f); }
+static inline void store_mis(__global float4* m, int slot, PathMis v) { m[slot] = (float4)(v.dVCM, v.dVC, v.dVM, 0.0f); }
 
 /* Light sub-path start (eqs. 31-33; delta lights 48-50): directPdf is the
  * density of next-event estimation choosing this point (area) or direction
  * (infinite lights), emissionPdfW that of emitting this ray; cosine 1 for
  * lights without a surface. */
-inline PathMis mis_light_start(float directPdf, float emissionPdfW, float cosAtLight, bool finite, bool delta,
+static inline PathMis mis_light_start(float directPdf, float emissionPdfW, float cosAtLight, bool finite, bool delta,
                                float vcWeightFactor)
 {
     PathMis m;
@@ -36,7 +36,7 @@ inline PathMis mis_light_start(float directPdf, float emissionPdfW, float cosAtL
 
 /* Camera sub-path start: light tracing (t = 1) has lightPaths samples per
  * pixel; cameraPdfW is the camera's density of the primary direction. */
-inline PathMis mis_camera_start(float lightPaths, float cameraPdfW)
+static inline PathMis mis_camera_start(float lightPaths, float cameraPdfW)
 {
     PathMis m = {lightPaths / cameraPdfW, 0.0f, 0.0f};
     return m;
@@ -46,7 +46,7 @@ inline PathMis mis_camera_start(float lightPaths, float cameraPdfW)
  * direction (shading normal): convert the pdfs of the last segment to area
  * measure. The first segment of a path from an infinite light has no
  * distance (§5.1). */
-inline void mis_at_hit(PathMis* m, float dist, float cosHit, bool convertDistance)
+static inline void mis_at_hit(PathMis* m, float dist, float cosHit, bool convertDistance)
 {
     if (convertDistance)
         m->dVCM *= dist * dist;
@@ -59,7 +59,7 @@ inline void mis_at_hit(PathMis* m, float dist, float cosHit, bool convertDistanc
 /* After sampling a new direction with solid-angle pdf pdfW (continuation
  * probability included), reverse pdf revPdfW, and |cos| cosOut at this
  * vertex (eqs. 34-36; specular vertices 53-55). */
-inline void mis_after_scatter(PathMis* m, bool delta, float cosOut, float pdfW, float revPdfW, float vmWeightFactor,
+static inline void mis_after_scatter(PathMis* m, bool delta, float cosOut, float pdfW, float revPdfW, float vmWeightFactor,
                               float vcWeightFactor)
 {
     if (delta) {
@@ -86,7 +86,7 @@ inline void mis_after_scatter(PathMis* m, bool delta, float cosOut, float pdfW, 
  * next-event density (area, or solid angle for the background) is
  * directPdf and whose emission density for the ray is emissionPdfW
  * (eqs. 42-43). */
-inline float mis_weight_emission_hit(PathMis camera, float directPdf, float emissionPdfW)
+static inline float mis_weight_emission_hit(PathMis camera, float directPdf, float emissionPdfW)
 {
     return 1.0f / (1.0f + directPdf * camera.dVCM + emissionPdfW * camera.dVC);
 }
@@ -95,7 +95,7 @@ inline float mis_weight_emission_hit(PathMis camera, float directPdf, float emis
  * the BSDF sampling the light's direction (0 for delta lights), bsdfRevPdfW
  * that of the reverse direction; directPdfW, emissionPdfW and cosAtLight as
  * in LightSample (eqs. 44-45). */
-inline float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdfRevPdfW, float directPdfW,
+static inline float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdfRevPdfW, float directPdfW,
                             float emissionPdfW, float cosToLight, float cosAtLight, float vmWeightFactor)
 {
     float wLight = bsdfDirPdfW / directPdfW;
@@ -108,7 +108,7 @@ inline float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdfRevPdfW
  * density of sampling the vertex (per unit area), lightPaths the light paths
  * per iteration, bsdfRevPdfW the light vertex's density of sampling its
  * incoming direction from the camera's (eqs. 46-47). */
-inline float mis_weight_light_to_camera(PathMis light, float cameraPdfA, float lightPaths, float bsdfRevPdfW,
+static inline float mis_weight_light_to_camera(PathMis light, float cameraPdfA, float lightPaths, float bsdfRevPdfW,
                                         float vmWeightFactor)
 {
     float wLight = cameraPdfA / lightPaths * (vmWeightFactor + light.dVCM + light.dVC * bsdfRevPdfW);
@@ -119,7 +119,7 @@ inline float mis_weight_light_to_camera(PathMis light, float cameraPdfA, float l
  * vertex's BSDF density of the light vertex (area), lightDirPdfA the light
  * vertex's of the camera vertex; the reverse densities are solid angle
  * (eqs. 40-41, 37). */
-inline float mis_weight_connection(PathMis light, PathMis camera, float cameraDirPdfA, float lightDirPdfA,
+static inline float mis_weight_connection(PathMis light, PathMis camera, float cameraDirPdfA, float lightDirPdfA,
                                    float lightRevPdfW, float cameraRevPdfW, float vmWeightFactor)
 {
     float wLight = cameraDirPdfA * (vmWeightFactor + light.dVCM + light.dVC * lightRevPdfW);
@@ -130,7 +130,7 @@ inline float mis_weight_connection(PathMis light, PathMis camera, float cameraDi
 /* A camera vertex merged with a light vertex: cameraDirPdfW is the camera
  * BSDF's density of the light vertex's incoming direction, cameraRevPdfW
  * the reverse (eqs. 37-39). */
-inline float mis_weight_merge(PathMis light, PathMis camera, float cameraDirPdfW, float cameraRevPdfW,
+static inline float mis_weight_merge(PathMis light, PathMis camera, float cameraDirPdfW, float cameraRevPdfW,
                               float vcWeightFactor)
 {
     float wLight = light.dVCM * vcWeightFactor + light.dVM * cameraDirPdfW;

@@ -12,7 +12,12 @@
  * cost ~95 ns on a 2-core CPU (the counter's cache line bounces between the
  * cores), more than the shading itself. Contains barriers: every work-item
  * of the group must call it. `scratch` is __local int[2], free after the call. */
-inline int group_allocate(__global int* counters, int counter, bool wants, __local int* scratch)
+/* Helpers with barriers are always inlined: with a static helper that LLVM
+ * decides to inline late, PoCL 3.1 (LLVM 15) crashes building the
+ * work-group function. */
+#define BARRIER_HELPER static inline __attribute__((always_inline))
+
+BARRIER_HELPER int group_allocate(__global int* counters, int counter, bool wants, __local int* scratch)
 {
     if (get_local_id(0) == 0)
         scratch[0] = 0;
@@ -28,7 +33,7 @@ inline int group_allocate(__global int* counters, int counter, bool wants, __loc
 }
 
 /* Appends `slot` to `queue` if `push` (group_allocate's rules apply). */
-inline void queue_push(__global int* items, __global int* counters, int capacity, int queue, bool push, int slot,
+BARRIER_HELPER void queue_push(__global int* items, __global int* counters, int capacity, int queue, bool push, int slot,
                        __local int* scratch)
 {
     int index = group_allocate(counters, queue, push, scratch);
@@ -37,7 +42,7 @@ inline void queue_push(__global int* items, __global int* counters, int capacity
 }
 
 /* The slot of the i-th entry of `queue`, or -1 past its end. */
-inline int queue_item(__global const int* items, __global const int* counters, int capacity, int queue, int i)
+static inline int queue_item(__global const int* items, __global const int* counters, int capacity, int queue, int i)
 {
     return i < counters[COUNTER_INDEX(queue)] ? items[queue * capacity + i] : -1;
 }

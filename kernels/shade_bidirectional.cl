@@ -26,32 +26,23 @@ typedef struct CameraHitResult {
     int alive, shadowRay;
 } CameraHitResult;
 
-inline CameraHitResult shade_camera_hit(
-    int slot, uint iteration, __global const float4* triVertices, __global const float4* triNormals,
-    __global const int* triMaterials, __global const Material* materials, __global const Light* lights,
-    __global const float* lightCdf, __global const int* triangleLight, __constant const SceneInfo* scene,
-    uint seed, int maxPathLength, float vmWeightFactor, float vcWeightFactor, __global float4* rayOrigins,
-    __global float4* rayDirections, __global const float* hitT, __global const int* hitTriangle,
-    __global const float2* hitBary, __global const int* pathPixel, __global int* pathDepth,
-    __global float4* pathThroughput, __global float4* pathMis, __global int* pathFlags,
-    __global float4* shadowOrigins, __global float4* shadowDirections, __global float4* shadowContribution,
-    __global float4* pixelRadiance)
+static inline CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchParams* params, int slot)
 {
     CameraHitResult r = {0, 0};
-    int tri = hitTriangle[slot];
-    float3 wo = -rayDirections[slot].xyz;
-    SurfaceHit hit = surface_hit(triVertices, triNormals, tri, hitBary[slot], wo);
+    int tri = b->hitTriangle[slot];
+    float3 wo = -b->rayDirections[slot].xyz;
+    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, b->hitBary[slot], wo);
     float3 woL = to_local(&hit.frame, wo);
-    int depth = pathDepth[slot];
-    int pixel = pathPixel[slot];
-    float3 beta = pathThroughput[slot].xyz;
-    PathMis mis = load_mis(pathMis, slot);
-    mis_at_hit(&mis, hitT[slot], fabs(woL.z), true);
+    int depth = hit_depth(b->pathDepth, slot);
+    int pixel = b->pathPixel[slot];
+    float3 beta = b->pathThroughput[slot].xyz;
+    PathMis mis = load_mis(b->pathMis, slot);
+    mis_at_hit(&mis, b->hitT[slot], fabs(woL.z), true);
     float3 L = (float3)(0.0f);
 
 #ifdef HAS_EMISSIVE_TRIANGLES
-    int light = triangleLight[tri];
-    bool specularPath = (pathFlags[slot] & PATH_SPECULAR) != 0;
+    int light = b->triangleLight[tri];
+    bool specularPath = (b->pathFlags[slot] & PATH_SPECULAR) != 0;
     if (light >= 0 && hit.frontSide) {
         float w = 1.0f; /* seen directly: no other technique */
 #ifdef VERTEX_MERGING_ONLY
@@ -59,27 +50,27 @@ inline CameraHitResult shade_camera_hit(
 #else
         if (depth > 1) {
             float directPdfA, emissionPdfW;
-            triangle_hit_pdfs(lights[light].pmf, lights[light].area, dot(wo, hit.ngF), &directPdfA, &emissionPdfW);
+            triangle_hit_pdfs(b->lights[light].pmf, b->lights[light].area, dot(wo, hit.ngF), &directPdfA, &emissionPdfW);
             w = mis_weight_emission_hit(mis, directPdfA, emissionPdfW);
         }
 #endif
-        L += w * beta * vload3(0, lights[light].emission);
+        L += w * beta * vload3(0, b->lights[light].emission);
     }
 #endif
 
 #ifndef LIGHT_TRACING
-    Bsdf bsdf = make_bsdf(&materials[triMaterials[tri]], woL, hit.frontSide);
-    bool alive = depth < maxPathLength && !bsdf_is_black(&bsdf);
+    Bsdf bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], woL, hit.frontSide);
+    bool alive = path_fits(depth + 1, params->maxPathLength) && !bsdf_is_black(&bsdf);
     float cont = continuation_probability(&bsdf);
 #ifdef PPM
     alive = alive && !bsdf_has_nondelta(&bsdf);
 #endif
 
 #ifndef VERTEX_MERGING_ONLY
-    if (alive && scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
-        float4 u = rng_uniform4(seed, iteration, (uint)pixel, (uint)depth, 0u);
+    if (alive && b->scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
+        float4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 0u);
         LightSample ls;
-        if (sample_light(lights, lightCdf, triVertices, scene, hit.p, u.xyz, &ls)) {
+        if (sample_light(b->lights, b->lightCdf, b->triVertices, b->scene, hit.p, u.xyz, &ls)) {
             float3 wiL = to_local(&hit.frame, ls.direction);
             if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfFwd, pdfRev;
@@ -89,11 +80,11 @@ inline CameraHitResult shade_camera_hit(
                     float bsdfDirPdfW = ls.delta ? 0.0f : pdfFwd * cont;
                     float bsdfRevPdfW = pdfRev * cont;
                     float w = mis_weight_nee(mis, bsdfDirPdfW, bsdfRevPdfW, ls.directPdfW, ls.emissionPdfW,
-                                             cosToLight, ls.cosAtLight, vmWeightFactor);
+                                             cosToLight, ls.cosAtLight, params->vmWeightFactor);
                     float3 contribution = beta * f * ls.radiance * (w * cosToLight / ls.pdf);
-                    store_ray(shadowOrigins, shadowDirections, slot,
+                    store_ray(b->shadowOrigins, b->shadowDirections, slot,
                               shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));
-                    shadowContribution[slot] = (float4)(contribution, 0.0f);
+                    b->shadowContribution[slot] = (float4)(contribution, 0.0f);
                     r.shadowRay = 1;
                 }
             }
@@ -102,7 +93,7 @@ inline CameraHitResult shade_camera_hit(
 #endif
 
     if (alive) {
-        float4 u = rng_uniform4(seed, iteration, (uint)pixel, (uint)depth, 1u);
+        float4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 1u);
         BsdfSample bs;
         alive = bsdf_sample(&bsdf, woL, u.xyz, false, &bs);
         float3 wi = to_world(&hit.frame, bs.wi);
@@ -114,7 +105,7 @@ inline CameraHitResult shade_camera_hit(
                 bsdf_eval(&bsdf, woL, bs.wi, false, &fwd, &rev);
                 revPdfW = rev * cont;
             }
-            mis_after_scatter(&mis, bs.delta, fabs(bs.wi.z), pdfW, revPdfW, vmWeightFactor, vcWeightFactor);
+            mis_after_scatter(&mis, bs.delta, fabs(bs.wi.z), pdfW, revPdfW, params->vmWeightFactor, params->vcWeightFactor);
             beta *= bs.weight / cont;
             if (!all(isfinite(beta))) {
                 L += (float3)(NAN); /* the sample is dropped and counted by accumulate */
@@ -123,46 +114,31 @@ inline CameraHitResult shade_camera_hit(
             alive = alive && max_component(beta) > 0.0f;
         }
         if (alive) {
-            store_ray(rayOrigins, rayDirections, slot, spawn_ray(hit.p, hit.pError, hit.ngF, wi));
-            pathThroughput[slot] = (float4)(beta, 0.0f);
-            store_mis(pathMis, slot, mis);
-            pathDepth[slot] = depth + 1;
+            store_ray(b->rayOrigins, b->rayDirections, slot, spawn_ray(hit.p, hit.pError, hit.ngF, wi));
+            b->pathThroughput[slot] = (float4)(beta, 0.0f);
+            store_mis(b->pathMis, slot, mis);
+            b->pathDepth[slot] = depth;
             if (!bs.delta)
-                pathFlags[slot] = 0;
+                b->pathFlags[slot] = 0;
         }
     }
     r.alive = alive ? 1 : 0;
 #endif
     if (any(L != 0.0f))
-        pixelRadiance[pixel] += (float4)(L, 0.0f);
+        b->pixelRadiance[pixel] += (float4)(L, 0.0f);
     return r;
 }
 
-__kernel void shade_bidirectional(int capacity, int nextRayQueue, int freeQueue, uint iteration,
-                                  __global int* queueItems, __global int* queueCounters,
-                                  __global const float4* triVertices, __global const float4* triNormals,
-                                  __global const int* triMaterials, __global const Material* materials,
-                                  __global const Light* lights, __global const float* lightCdf,
-                                  __global const int* triangleLight, __constant const SceneInfo* scene, uint seed,
-                                  int maxPathLength, float vmWeightFactor, float vcWeightFactor,
-                                  __global float4* rayOrigins, __global float4* rayDirections,
-                                  __global const float* hitT, __global const int* hitTriangle,
-                                  __global const float2* hitBary, __global const int* pathPixel,
-                                  __global int* pathDepth, __global float4* pathThroughput,
-                                  __global float4* pathMis, __global int* pathFlags, __global float4* shadowOrigins,
-                                  __global float4* shadowDirections, __global float4* shadowContribution,
-                                  __global float4* pixelRadiance)
+__kernel void shade_bidirectional(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[2];
-    int slot = queue_item(queueItems, queueCounters, capacity, QUEUE_HITS, get_global_id(0));
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     CameraHitResult r = {0, 0};
     if (slot >= 0)
-        r = shade_camera_hit(slot, iteration, triVertices, triNormals, triMaterials, materials, lights, lightCdf,
-                             triangleLight, scene, seed, maxPathLength, vmWeightFactor, vcWeightFactor, rayOrigins,
-                             rayDirections, hitT, hitTriangle, hitBary, pathPixel, pathDepth, pathThroughput,
-                             pathMis, pathFlags, shadowOrigins, shadowDirections, shadowContribution,
-                             pixelRadiance);
-    queue_push(queueItems, queueCounters, capacity, QUEUE_SHADOW, r.shadowRay, slot, scratch);
-    queue_push(queueItems, queueCounters, capacity, nextRayQueue, r.alive, slot, scratch);
-    queue_push(queueItems, queueCounters, capacity, freeQueue, slot >= 0 && !r.alive, slot, scratch);
+        r = shade_camera_hit(&b, &params, slot);
+    queue_push(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, r.shadowRay, slot, scratch);
+    queue_push(queueItems, queueCounters, params.capacity, params.nextRayQueue, r.alive, slot, scratch);
+    queue_push(queueItems, queueCounters, params.capacity, params.nextFreeQueue, slot >= 0 && !r.alive, slot,
+               scratch);
 }

@@ -7,7 +7,7 @@
 #ifndef WAVEVCM_SHARED_TYPES_H
 #define WAVEVCM_SHARED_TYPES_H
 
-#ifndef __OPENCL_VERSION__
+#ifndef __OPENCL_C_VERSION__
 #include <cstdint>
 namespace wv {
 typedef uint32_t uint;
@@ -119,7 +119,7 @@ typedef struct SceneInfo {
     int pad[2];
 } SceneInfo;
 
-#ifndef __OPENCL_VERSION__
+#ifndef __OPENCL_C_VERSION__
 } /* namespace wv */
 #endif
 

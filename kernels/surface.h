@@ -8,7 +8,7 @@
 #include "ray.h"
 #include "sampling.h"
 
-inline float3 geometric_normal(__global const float4* triVertices, int tri)
+static inline float3 geometric_normal(__global const float4* triVertices, int tri)
 {
     float3 v0 = triVertices[3 * tri].xyz;
     return normalize(cross(triVertices[3 * tri + 1].xyz - v0, triVertices[3 * tri + 2].xyz - v0));
@@ -16,7 +16,7 @@ inline float3 geometric_normal(__global const float4* triVertices, int tri)
 
 #ifdef HAS_VERTEX_NORMALS
 /* Falls back to the geometric normal where the interpolated normal vanishes. */
-inline float3 shading_normal(__global const float4* triNormals, int tri, float2 bary, float3 ng)
+static inline float3 shading_normal(__global const float4* triNormals, int tri, float2 bary, float3 ng)
 {
     float3 n = (1.0f - bary.x - bary.y) * triNormals[3 * tri].xyz +
                bary.x * triNormals[3 * tri + 1].xyz + bary.y * triNormals[3 * tri + 2].xyz;
@@ -36,7 +36,7 @@ typedef struct SurfaceHit {
  * (pointing away from the surface). A shading normal on the other side of
  * the surface from w than the geometric one is unusable; the geometric
  * normal replaces it. */
-inline SurfaceHit surface_hit(__global const float4* triVertices, __global const float4* triNormals, int tri,
+static inline SurfaceHit surface_hit(__global const float4* triVertices, __global const float4* triNormals, int tri,
                               float2 bary, float3 w)
 {
     SurfaceHit h;
@@ -59,7 +59,7 @@ inline SurfaceHit surface_hit(__global const float4* triVertices, __global const
 /* Shading and geometric normal agree on the side of a direction; where they
  * do not, light would leak through the surface, so such directions carry
  * nothing. */
-inline bool sides_agree(const SurfaceHit* h, float3 dirWorld, float3 dirLocal)
+static inline bool sides_agree(const SurfaceHit* h, float3 dirWorld, float3 dirLocal)
 {
     return (dirLocal.z > 0.0f) == (dot(dirWorld, h->ngF) > 0.0f);
 }
@@ -68,7 +68,7 @@ inline bool sides_agree(const SurfaceHit* h, float3 dirWorld, float3 dirLocal)
  * for importance transport (Veach 1997, eq. 5.19):
  * |w_fixed·ns| |w_other·ng| / (|w_fixed·ng| |w_other·ns|), where w_fixed
  * points back along the light path and w_other towards the camera side. */
-inline float adjoint_shading_correction(const SurfaceHit* h, float3 wFixed, float3 wOther)
+static inline float adjoint_shading_correction(const SurfaceHit* h, float3 wFixed, float3 wOther)
 {
     float denominator = fabs(dot(wFixed, h->ngF)) * fabs(dot(wOther, h->nsF));
     return denominator > 0.0f ? fabs(dot(wFixed, h->nsF)) * fabs(dot(wOther, h->ngF)) / denominator : 0.0f;

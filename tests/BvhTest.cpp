@@ -7,6 +7,7 @@
 #include "../kernels/queue_ids.h"
 #include "TestDevices.h"
 #include "bvh/Bvh.h"
+#include "render/KernelBindings.h"
 #include "render/SceneBuffers.h"
 #include "scene/GltfLoader.h"
 
@@ -152,10 +153,23 @@ private:
         cl::Buffer t = deviceBuffer(device_, n * 4, "t"), tri = deviceBuffer(device_, n * 4, "tri"),
                    bary = deviceBuffer(device_, n * 8, "bary");
         cl::Kernel k(program_, kernel.c_str());
-        if (kernel == "extend")
-            setArgs(k, int(n), int(QUEUE_RAYS(0)), in.items, in.counters, buffers_.nodes, buffers_.triVertices,
-                    in.origins, in.directions, t, tri, bary);
-        else
+        if (kernel == "extend") {
+            KernelBuffers b;
+            b.nodes = buffers_.nodes;
+            b.triVertices = buffers_.triVertices;
+            b.queueItems = in.items;
+            b.queueCounters = in.counters;
+            b.rayOrigins = in.origins;
+            b.rayDirections = in.directions;
+            b.hitT = t;
+            b.hitTriangle = tri;
+            b.hitBary = bary;
+            LaunchParams params{};
+            params.capacity = int(n);
+            params.rayQueue = QUEUE_RAYS(0);
+            bindBuffers(k, b);
+            setLaunchParams(k, params);
+        } else
             setArgs(k, buffers_.triVertices, triangleCount_, in.origins, in.directions, int(n), t, tri);
         device_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(n)), cl::NDRange(64));
         return read(t, tri, n);

@@ -16,6 +16,13 @@ HashGrid::HashGrid(DeviceContext& device, const cl::Program& program)
 {
 }
 
+const std::vector<std::string>& HashGrid::kernelNames()
+{
+    static const std::vector<std::string> names = {"grid_count", "scan_chunks", "scan_totals", "scan_add",
+                                                   "grid_scatter"};
+    return names;
+}
+
 void HashGrid::reserve(size_t vertices)
 {
     if (vertices <= capacity_) return;

@@ -6,6 +6,8 @@
 #include "../cl/DeviceContext.h"
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace wv {
 
@@ -25,6 +27,9 @@ public:
     const cl::Buffer& bucketStarts() const { return bucketStarts_; }     // int[buckets + 1]
     const cl::Buffer& bucketVertices() const { return bucketVertices_; } // int[vertices]
     uint32_t buckets() const { return buckets_; }
+
+    // The names of hash_grid.cl's kernels.
+    static const std::vector<std::string>& kernelNames();
 
 private:
     void launch(cl::Kernel& kernel, size_t items);

@@ -21,6 +21,20 @@ std::vector<std::string> Renderer::kernelFiles(Algorithm algorithm)
     }
 }
 
+std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& features)
+{
+    bool bidirectional = algorithm != Algorithm::EyeLight && algorithm != Algorithm::PathTracing;
+    bool mergingOnly =
+        algorithm == Algorithm::ProgressivePhotonMapping || algorithm == Algorithm::BidirectionalPhotonMapping;
+    std::string options = "-cl-std=CL1.2" + features.buildOptions();
+    if (algorithm == Algorithm::EyeLight) options += " -DEYE_LIGHT";
+    if (bidirectional) options += " -DBIDIRECTIONAL";
+    if (algorithm == Algorithm::LightTracing) options += " -DLIGHT_TRACING";
+    if (mergingOnly) options += " -DVERTEX_MERGING_ONLY";
+    if (algorithm == Algorithm::ProgressivePhotonMapping) options += " -DPPM";
+    return options;
+}
+
 int defaultWavefront(const DeviceInfo& device)
 {
     size_t wanted = (device.type & CL_DEVICE_TYPE_GPU) ? (size_t(1) << 21) : (size_t(1) << 18);
@@ -30,27 +44,18 @@ int defaultWavefront(const DeviceInfo& device)
 
 static size_t roundUp(size_t x, size_t multiple) { return (x + multiple - 1) / multiple * multiple; }
 
-static PathState makePathState(DeviceContext& device, const RenderSettings& s)
+static PathState makePathState(DeviceContext& device, const RenderSettings& s, KernelBuffers& buffers)
 {
     int wavefront = s.wavefront > 0 ? s.wavefront : defaultWavefront(device.info);
     // Launches cover queue sizes in work-groups of 64, so the capacity is a
     // multiple of 64, and no larger than one iteration needs.
     wavefront = std::min(wavefront, s.width * s.height);
-    return PathState(device, int(roundUp(size_t(wavefront), 64)));
+    return PathState(device, int(roundUp(size_t(wavefront), 64)), buffers);
 }
-
-template <typename... Args> static void setArgs(cl::Kernel& kernel, const Args&... args)
-{
-    cl_uint index = 0;
-    (kernel.setArg(index++, args), ...);
-}
-
-// Placeholders for the arguments every round sets.
-static const int kRoundArg = 0;
 
 Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings)
     : device_(device), settings_(settings), lights_(buildLightTable(scene, bvh)),
-      sceneBuffers_(device, scene, bvh, lights_), paths_(makePathState(device, settings))
+      sceneBuffers_(device, scene, bvh, lights_), paths_(makePathState(device, settings, buffers_))
 {
     Algorithm algorithm = settings.algorithm;
     bidirectional_ = algorithm != Algorithm::EyeLight && algorithm != Algorithm::PathTracing;
@@ -61,134 +66,106 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     bool lightTracing = algorithm == Algorithm::LightTracing;
     sceneRadius_ = lights_.info.radius;
     pixels_ = settings.width * settings.height;
+
+    KernelBuffers& b = buffers_;
+    const SceneBuffers& s = sceneBuffers_;
+    b.nodes = s.nodes;
+    b.triVertices = s.triVertices;
+    b.triNormals = s.triNormals;
+    b.triMaterials = s.triMaterials;
+    b.materials = s.materials;
+    b.lights = s.lights;
+    b.lightCdf = s.lightCdf;
+    b.triangleLight = s.triangleLight;
+    b.scene = s.sceneInfo;
     Camera camera = makeCamera(scene.camera, settings.width, settings.height);
-    camera_ = uploadBuffer(device, &camera, sizeof camera, "the camera");
+    b.camera = uploadBuffer(device, &camera, sizeof camera, "the camera");
     size_t imageBytes = size_t(pixels_) * 16;
-    pixelRadiance_ = deviceBuffer(device, imageBytes, "the iteration's radiance");
-    connectionRadiance_ = deviceBuffer(device, imageBytes, "the iteration's radiance");
-    mergingRadiance_ = deviceBuffer(device, imageBytes, "the iteration's radiance");
-    familyMeans_ = deviceBuffer(device, settings.techniques ? 3 * imageBytes : 16, "the technique images");
-    splatRadiance_ = deviceBuffer(device, imageBytes, "the light-tracing splats");
-    framebuffer_ = deviceBuffer(device, imageBytes, "the framebuffer");
-    for (cl::Buffer* b : {&pixelRadiance_, &connectionRadiance_, &mergingRadiance_, &splatRadiance_, &framebuffer_})
-        device.queue.enqueueFillBuffer(*b, 0.0f, 0, imageBytes);
-    if (settings.techniques) device.queue.enqueueFillBuffer(familyMeans_, 0.0f, 0, 3 * imageBytes);
-    device.queue.enqueueFillBuffer(paths_.counters, 0, 0, kCounterBytes);
+    b.pixelRadiance = deviceBuffer(device, imageBytes, "the iteration's radiance");
+    b.connectionRadiance = deviceBuffer(device, imageBytes, "the iteration's radiance");
+    b.mergingRadiance = deviceBuffer(device, imageBytes, "the iteration's radiance");
+    b.splatRadiance = deviceBuffer(device, imageBytes, "the light-tracing splats");
+    b.framebuffer = deviceBuffer(device, imageBytes, "the framebuffer");
+    for (cl::Buffer* i : {&b.pixelRadiance, &b.connectionRadiance, &b.mergingRadiance, &b.splatRadiance,
+                          &b.framebuffer})
+        device.queue.enqueueFillBuffer(*i, 0.0f, 0, imageBytes);
+    if (settings.techniques) {
+        b.familyMeans = deviceBuffer(device, 3 * imageBytes, "the technique images");
+        device.queue.enqueueFillBuffer(b.familyMeans, 0.0f, 0, 3 * imageBytes);
+    }
+    device.queue.enqueueFillBuffer(b.queueCounters, 0, 0, kCounterBytes);
 
     std::string source = expandKernelSources(findKernelDir(), kernelFiles(algorithm));
-    std::string options = "-cl-std=CL1.2" + scene.features().buildOptions();
-    if (algorithm == Algorithm::EyeLight) options += " -DEYE_LIGHT";
-    if (bidirectional_) options += " -DBIDIRECTIONAL";
-    if (lightTracing) options += " -DLIGHT_TRACING";
-    if (useVM_ && !useVC_) options += " -DVERTEX_MERGING_ONLY";
-    if (algorithm == Algorithm::ProgressivePhotonMapping) options += " -DPPM";
-    build_ = buildProgram(device.context, device.info, source, options);
+    build_ = buildProgram(device.context, device.info, source, programOptions(algorithm, scene.features()));
 
     // One fixed local size: PoCL compiles a work-group function per local
     // size, and local size 1 is several times slower there.
     localSize_ = std::min<size_t>(64, device.info.maxWorkGroupSize);
     profiling_ = (device.queue.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0;
-    const PathState& p = paths_;
-    const SceneBuffers& s = sceneBuffers_;
-    const int r = kRoundArg;
-    const float lightTracePaths = float(pixels_); // light paths per iteration, for light tracing's MIS
+
+    // What holds for the whole render; the rest is set per batch and round.
     // Without merging the VM weights vanish (Georgiev's report, eq. 20 with η_VCM unused).
-    const float vmWeightFactor = 0.0f, vcWeightFactor = 0.0f;
-    auto kernel = [&](const char* name) { return cl::Kernel(build_.program, name); };
+    params_.capacity = paths_.capacity;
+    params_.seed = settings.seed;
+    params_.maxPathLength = settings.maxPathLength;
+    params_.lightTracePaths = float(pixels_); // light paths per iteration
+    params_.pixels = pixels_;
+    params_.techniques = settings.techniques ? 1 : 0;
+    params_.storeVertices = useVC_ || useVM_ ? 1 : 0;
 
     // Camera sub-paths.
     Phase& c = cameraPhase_;
+    c.cameraPaths = true;
     c.generate = kernel("generate");
-    setArgs(c.generate, r, r, r, r, r, r, 0u, p.queueItems, p.counters, camera_, settings.seed, lightTracePaths,
-            p.rayOrigins, p.rayDirections, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathPrevPdf, p.pathMis,
-            p.pathFlags);
     c.extend = kernel("extend");
-    setArgs(c.extend, r, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.rayOrigins, p.rayDirections, p.hitT,
-            p.hitTriangle, p.hitBary);
     c.escaped = kernel("escaped");
-    setArgs(c.escaped, r, r, p.queueItems, p.counters, 1, s.lights, s.sceneInfo, p.pathPixel, p.pathDepth,
-            p.pathThroughput, p.pathPrevPdf, p.pathMis, p.pathFlags, pixelRadiance_);
-    switch (algorithm) {
-    case Algorithm::EyeLight:
-        c.shade = kernel("shade_eyelight");
-        setArgs(c.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, p.rayDirections,
-                p.hitTriangle, p.hitBary, p.pathPixel, pixelRadiance_);
-        break;
-    case Algorithm::PathTracing:
-        c.shade = kernel("shade");
-        setArgs(c.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials,
-                s.materials, s.lights, s.lightCdf, s.triangleLight, s.sceneInfo, settings.seed,
-                settings.maxPathLength, p.rayOrigins, p.rayDirections, p.hitT, p.hitTriangle, p.hitBary, p.pathPixel,
-                p.pathDepth, p.pathThroughput, p.pathPrevPdf, p.shadowOrigins, p.shadowDirections,
-                p.shadowContribution, pixelRadiance_);
-        break;
-    default:
-        c.shade = kernel("shade_bidirectional");
-        setArgs(c.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials,
-                s.materials, s.lights, s.lightCdf, s.triangleLight, s.sceneInfo, settings.seed,
-                settings.maxPathLength, vmWeightFactor, vcWeightFactor, p.rayOrigins, p.rayDirections, p.hitT,
-                p.hitTriangle, p.hitBary, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, p.pathFlags,
-                p.shadowOrigins, p.shadowDirections, p.shadowContribution, pixelRadiance_);
-    }
+    c.shade = kernel(algorithm == Algorithm::EyeLight      ? "shade_eyelight"
+                     : algorithm == Algorithm::PathTracing ? "shade"
+                                                           : "shade_bidirectional");
     if (algorithm == Algorithm::PathTracing || useVC_) {
         c.connect = kernel("connect");
-        setArgs(c.connect, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.shadowOrigins, p.shadowDirections,
-                p.shadowContribution, p.pathPixel, pixelRadiance_);
         c.hasConnect = true;
     }
     accumulate_ = kernel("accumulate");
-    setArgs(accumulate_, pixelRadiance_, connectionRadiance_, mergingRadiance_, splatRadiance_, pixels_, 0u,
-            framebuffer_, p.counters, int(settings.techniques), familyMeans_);
-    if (!bidirectional_) return;
+    if (bidirectional_) {
+        // Light sub-paths, and the light vertices camera paths connect to.
+        batch_ = pixels_;
+        b.lightPathHead = deviceBuffer(device, size_t(pixels_) * sizeof(int), "the light path heads");
+        vertexBudget_ =
+            std::min<size_t>(device.info.maxAllocation, device.info.globalMemory / 2) / sizeof(LightVertex);
+        if (settings.maxLightVertices > 0) vertexBudget_ = std::min(vertexBudget_, settings.maxLightVertices);
+        Phase& l = lightPhase_;
+        l.generate = kernel("generate_light");
+        l.extend = kernel("extend");
+        l.shade = kernel("shade_light");
+        l.escaped = kernel("escaped");
+        l.connect = kernel("connect_splat");
+        l.hasConnect = lightTracing || useVC_;
+        if (useVC_) {
+            c.connectVertices = kernel("connect_vertices");
+            c.hasConnectVertices = true;
+        }
+        if (useVM_) {
+            c.merge = kernel("merge");
+            c.hasMerge = true;
+            grid_ = std::make_unique<HashGrid>(device, build_.program);
+        }
+        if (params_.storeVertices) ensureLightVertexCapacity(size_t(pixels_) * 2);
+    }
+    bindAll();
+}
 
-    // Light sub-paths, and the light vertices camera paths connect to.
-    batch_ = pixels_;
-    lightPathHead_ = deviceBuffer(device, size_t(pixels_) * sizeof(int), "the light path heads");
-    vertexBudget_ = std::min<size_t>(device.info.maxAllocation, device.info.globalMemory / 2) / sizeof(LightVertex);
-    if (settings.maxLightVertices > 0) vertexBudget_ = std::min(vertexBudget_, settings.maxLightVertices);
-    bool storeVertices = useVC_ || useVM_;
-    vertexCapacity_ = 1;
-    if (storeVertices) ensureLightVertexCapacity(size_t(pixels_) * 2);
-    else lightVertices_ = deviceBuffer(device, sizeof(LightVertex), "the light vertices");
-    Phase& l = lightPhase_;
-    l.generate = kernel("generate_light");
-    setArgs(l.generate, r, r, r, r, r, r, 0u, p.queueItems, p.counters, s.lights, s.lightCdf, s.triVertices,
-            s.sceneInfo, settings.seed, vcWeightFactor, p.rayOrigins, p.rayDirections, p.pathPixel, p.pathDepth,
-            p.pathThroughput, p.pathMis, p.pathFlags, p.pathLastVertex, 0, lightPathHead_);
-    l.extend = kernel("extend");
-    setArgs(l.extend, r, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.rayOrigins, p.rayDirections, p.hitT,
-            p.hitTriangle, p.hitBary);
-    l.shade = kernel("shade_light");
-    setArgs(l.shade, r, r, r, 0u, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials, s.materials,
-            camera_, settings.seed, settings.maxPathLength, lightTracePaths, int(lightTracing || useVC_),
-            int(storeVertices), vmWeightFactor,
-            vcWeightFactor, p.rayOrigins, p.rayDirections, p.hitT, p.hitTriangle, p.hitBary, p.pathPixel, p.pathDepth,
-            p.pathThroughput, p.pathMis, p.pathFlags, p.pathLastVertex, p.shadowOrigins, p.shadowDirections,
-            p.shadowContribution, p.shadowPixel, lightVertices_, int(vertexCapacity_), 0, lightPathHead_);
-    l.escaped = kernel("escaped");
-    setArgs(l.escaped, r, r, p.queueItems, p.counters, 0, s.lights, s.sceneInfo, p.pathPixel, p.pathDepth,
-            p.pathThroughput, p.pathPrevPdf, p.pathMis, p.pathFlags, pixelRadiance_);
-    l.connect = kernel("connect_splat");
-    setArgs(l.connect, r, p.queueItems, p.counters, s.nodes, s.triVertices, p.shadowOrigins, p.shadowDirections,
-            p.shadowContribution, p.shadowPixel, splatRadiance_);
-    l.hasConnect = lightTracing || useVC_;
-    if (useVC_) {
-        c.connectVertices = kernel("connect_vertices");
-        setArgs(c.connectVertices, r, p.queueItems, p.counters, s.nodes, s.triVertices, s.triNormals, s.triMaterials,
-                s.materials, settings.maxPathLength, vmWeightFactor, p.rayDirections, p.hitT, p.hitTriangle,
-                p.hitBary, p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, lightVertices_, 0, lightPathHead_,
-                connectionRadiance_);
-        c.hasConnectVertices = true;
-    }
-    if (useVM_) {
-        c.merge = kernel("merge");
-        setArgs(c.merge, r, p.queueItems, p.counters, s.triVertices, s.triNormals, s.triMaterials, s.materials,
-                settings.maxPathLength, 0.0f, 0.0f, 0.0f, p.rayDirections, p.hitT, p.hitTriangle, p.hitBary,
-                p.pathPixel, p.pathDepth, p.pathThroughput, p.pathMis, lightVertices_);
-        c.hasMerge = true;
-        grid_ = std::make_unique<HashGrid>(device, build_.program);
-        grid_->reserve(vertexCapacity_);
-    }
+cl::Kernel Renderer::kernel(const char* name)
+{
+    cl::Kernel k(build_.program, name);
+    kernels_.push_back(k);
+    return k;
+}
+
+// Every render kernel gets the current buffers; called when one is replaced.
+void Renderer::bindAll()
+{
+    for (cl::Kernel& k : kernels_) bindBuffers(k, buffers_);
 }
 
 size_t Renderer::deviceBytes() const
@@ -202,16 +179,17 @@ size_t Renderer::deviceBytes() const
 void Renderer::ensureLightVertexCapacity(size_t vertices)
 {
     vertices = std::min(vertices, vertexBudget_);
-    if (vertices <= vertexCapacity_ && lightVertices_()) return;
+    if (vertices <= vertexCapacity_ && buffers_.lightVertices()) return;
     vertexCapacity_ = vertices;
-    lightVertices_ = deviceBuffer(device_, vertexCapacity_ * sizeof(LightVertex), "the light vertices");
-    if (lightPhase_.shade()) {
-        lightPhase_.shade.setArg(33, lightVertices_);
-        lightPhase_.shade.setArg(34, int(vertexCapacity_));
+    buffers_.lightVertices = deviceBuffer(device_, vertexCapacity_ * sizeof(LightVertex), "the light vertices");
+    params_.vertexCapacity = int(vertexCapacity_);
+    if (grid_) {
+        grid_->reserve(vertexCapacity_);
+        buffers_.bucketStarts = grid_->bucketStarts();
+        buffers_.bucketVertices = grid_->bucketVertices();
+        params_.cellCount = grid_->buckets();
     }
-    if (cameraPhase_.hasConnectVertices) cameraPhase_.connectVertices.setArg(18, lightVertices_);
-    if (cameraPhase_.hasMerge) cameraPhase_.merge.setArg(19, lightVertices_);
-    if (grid_) grid_->reserve(vertexCapacity_);
+    bindAll();
 }
 
 // Per batch: the merge radius of this iteration and the MIS constants that
@@ -226,41 +204,29 @@ void Renderer::setBatchConstants(int lightPaths)
                                 1e-7f * sceneRadius_)
                      : 0.0f;
     float eta = float(M_PI) * radius_ * radius_ * float(lightPaths);
-    float vmWeightFactor = useVM_ ? eta : 0.0f;
-    float vcWeightFactor = useVM_ && useVC_ ? 1.0f / eta : 0.0f;
-    lightPhase_.generate.setArg(14, vcWeightFactor);
-    lightPhase_.shade.setArg(16, vmWeightFactor);
-    lightPhase_.shade.setArg(17, vcWeightFactor);
-    cameraPhase_.shade.setArg(16, vmWeightFactor);
-    cameraPhase_.shade.setArg(17, vcWeightFactor);
-    if (cameraPhase_.hasConnectVertices) cameraPhase_.connectVertices.setArg(9, vmWeightFactor);
-    if (cameraPhase_.hasMerge) {
-        cameraPhase_.merge.setArg(8, radius_);
-        cameraPhase_.merge.setArg(9, useVM_ ? 1.0f / eta : 0.0f);
-        cameraPhase_.merge.setArg(10, vcWeightFactor);
-    }
+    params_.mergeRadius = radius_;
+    params_.vmWeightFactor = useVM_ ? eta : 0.0f;
+    params_.vcWeightFactor = useVM_ && useVC_ ? 1.0f / eta : 0.0f;
+    params_.vmNormalization = useVM_ ? 1.0f / eta : 0.0f;
 }
 
 int Renderer::lightVertexCount()
 {
     int count = 0;
-    device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE,
+    device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE,
                                     size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int), sizeof count, &count);
     return count;
 }
 
 void Renderer::buildHashGrid()
 {
-    grid_->build(lightVertices_, int(std::min(size_t(lightVertexCount()), vertexCapacity_)), radius_);
-    cameraPhase_.merge.setArg(20, grid_->bucketStarts());
-    cameraPhase_.merge.setArg(21, grid_->bucketVertices());
-    cameraPhase_.merge.setArg(22, grid_->buckets());
-    cameraPhase_.merge.setArg(23, mergingRadiance_);
+    grid_->build(buffers_.lightVertices, int(std::min(size_t(lightVertexCount()), vertexCapacity_)), radius_);
 }
 
 void Renderer::launch(cl::Kernel& kernel, size_t items)
 {
     try {
+        setLaunchParams(kernel, params_);
         cl::Event event;
         device_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(items, localSize_)),
                                            cl::NDRange(localSize_), nullptr, profiling_ ? &event : nullptr);
@@ -279,33 +245,25 @@ void Renderer::round(Phase& phase, int parity, size_t generated, size_t issued, 
     int next = 1 - parity;
     auto counterOffset = [](int c) { return size_t(COUNTER_INDEX(c)) * sizeof(int); };
     auto clearCounters = [&](int first, int count) {
-        device_.queue.enqueueFillBuffer(paths_.counters, 0, counterOffset(first), counterOffset(count));
+        device_.queue.enqueueFillBuffer(buffers_.queueCounters, 0, counterOffset(first), counterOffset(count));
     };
     clearCounters(QUEUE_HITS, 3); // hits, escaped, shadow
     clearCounters(QUEUE_RAYS(next), 2);
-    int capacity = paths_.capacity;
-    setArgs(phase.generate, capacity, QUEUE_FREE(parity), QUEUE_RAYS(parity), int(generated), int(issued),
-            int(rays));
-    setArgs(phase.extend, capacity, QUEUE_RAYS(parity));
-    setArgs(phase.shade, capacity, QUEUE_RAYS(next), QUEUE_FREE(next));
-    setArgs(phase.escaped, capacity, QUEUE_FREE(next));
+    params_.rayQueue = QUEUE_RAYS(parity);
+    params_.freeQueue = QUEUE_FREE(parity);
+    params_.nextRayQueue = QUEUE_RAYS(next);
+    params_.nextFreeQueue = QUEUE_FREE(next);
+    params_.generateCount = int(generated);
+    params_.firstSample = int(issued);
+    params_.rayQueueLength = int(rays);
     size_t live = rays + generated;
     launch(phase.generate, std::max<size_t>(generated, 1)); // item 0 also sets the ray queue's length
     launch(phase.extend, live);
-    if (phase.hasConnectVertices) {
-        phase.connectVertices.setArg(0, capacity);
-        launch(phase.connectVertices, live);
-    }
-    if (phase.hasMerge) {
-        phase.merge.setArg(0, capacity);
-        launch(phase.merge, live);
-    }
+    if (phase.hasConnectVertices) launch(phase.connectVertices, live);
+    if (phase.hasMerge) launch(phase.merge, live);
     launch(phase.shade, live);
     launch(phase.escaped, live);
-    if (phase.hasConnect) {
-        phase.connect.setArg(0, capacity);
-        launch(phase.connect, live);
-    }
+    if (phase.hasConnect) launch(phase.connect, live);
 }
 
 // Runs paths for samples [firstSample, firstSample + count) to completion.
@@ -316,13 +274,13 @@ void Renderer::round(Phase& phase, int parity, size_t generated, size_t issued, 
 // most rounds have few live paths.
 void Renderer::runPhase(Phase& phase, int firstSample, int count)
 {
-    phase.generate.setArg(6, uint32_t(iteration_));
-    phase.shade.setArg(3, uint32_t(iteration_));
+    params_.cameraPaths = phase.cameraPaths ? 1 : 0;
     // Every slot starts free.
     std::vector<int> counters(COUNTER_INDEX(COUNTER_LIGHT_VERTICES), 0);
     counters[COUNTER_INDEX(QUEUE_FREE(0))] = paths_.capacity;
-    device_.queue.enqueueWriteBuffer(paths_.counters, CL_TRUE, 0, counters.size() * sizeof(int), counters.data());
-    device_.queue.enqueueCopyBuffer(paths_.slotIndices, paths_.queueItems, 0,
+    device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_TRUE, 0, counters.size() * sizeof(int),
+                                     counters.data());
+    device_.queue.enqueueCopyBuffer(paths_.slotIndices, buffers_.queueItems, 0,
                                     size_t(QUEUE_FREE(0)) * paths_.capacity * sizeof(int),
                                     size_t(paths_.capacity) * sizeof(int));
     size_t rays = 0, free = size_t(paths_.capacity), issued = 0;
@@ -333,7 +291,7 @@ void Renderer::runPhase(Phase& phase, int firstSample, int count)
         round(phase, parity, generated, size_t(firstSample) + issued, rays);
         issued += generated;
         rays_ += rays + generated;
-        device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE, 0, now.size() * sizeof(int), now.data());
+        device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE, 0, now.size() * sizeof(int), now.data());
         rays = size_t(now[COUNTER_INDEX(QUEUE_RAYS(1 - parity))]);
         free = size_t(now[COUNTER_INDEX(QUEUE_FREE(1 - parity))]);
         rays_ += size_t(now[COUNTER_INDEX(QUEUE_SHADOW)]);
@@ -342,10 +300,10 @@ void Renderer::runPhase(Phase& phase, int firstSample, int count)
 
 void Renderer::iterate()
 {
+    params_.iteration = uint32_t(iteration_);
     if (!bidirectional_) {
         runPhase(cameraPhase_, 0, pixels_);
     } else {
-        bool storeVertices = useVC_ || useVM_;
         bool splats = settings_.algorithm == Algorithm::LightTracing || useVC_;
         // Light paths go in batches whose vertices fit on the device; each
         // batch's camera paths connect to them. Light tracing splats onto any
@@ -356,18 +314,17 @@ void Renderer::iterate()
             int count = std::min(batch_, pixels_ - first);
             if (first < splatted) count = std::min(count, splatted - first);
             bool connectToCamera = splats && first >= splatted;
+            params_.firstLightPath = first;
             for (;;) {
                 setBatchConstants(count);
-                lightPhase_.generate.setArg(23, first);
-                lightPhase_.shade.setArg(14, int(connectToCamera));
-                lightPhase_.shade.setArg(35, first);
+                params_.connectToCamera = connectToCamera ? 1 : 0;
                 int zero = 0;
-                device_.queue.enqueueWriteBuffer(paths_.counters, CL_TRUE,
+                device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_TRUE,
                                                  size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int),
                                                  sizeof zero, &zero);
                 runPhase(lightPhase_, first, count);
                 if (connectToCamera) splatted = first + count;
-                size_t wanted = storeVertices ? size_t(lightVertexCount()) : 0;
+                size_t wanted = params_.storeVertices ? size_t(lightVertexCount()) : 0;
                 if (wanted <= vertexCapacity_) break;
                 connectToCamera = false;
                 if (wanted <= vertexBudget_) {
@@ -379,13 +336,11 @@ void Renderer::iterate()
                 count /= 2;
                 batch_ = count;
             }
-            if (useVC_) cameraPhase_.connectVertices.setArg(19, first);
             if (useVM_) buildHashGrid();
             runPhase(cameraPhase_, first, count);
             first += count;
         }
     }
-    accumulate_.setArg(5, uint32_t(iteration_));
     launch(accumulate_, size_t(pixels_));
     device_.queue.finish();
     if (profiling_) collectProfile();
@@ -409,7 +364,7 @@ std::array<Image, 3> Renderer::techniqueImages()
     std::array<Image, 3> out;
     if (!settings_.techniques) return out;
     std::vector<float> rgba(size_t(pixels_) * 12);
-    device_.queue.enqueueReadBuffer(familyMeans_, CL_TRUE, 0, rgba.size() * sizeof(float), rgba.data());
+    device_.queue.enqueueReadBuffer(buffers_.familyMeans, CL_TRUE, 0, rgba.size() * sizeof(float), rgba.data());
     for (int f = 0; f < 3; ++f) {
         out[f] = Image(settings_.width, settings_.height);
         for (int p = 0; p < pixels_; ++p)
@@ -421,7 +376,7 @@ std::array<Image, 3> Renderer::techniqueImages()
 Image Renderer::image()
 {
     std::vector<float> rgba(size_t(pixels_) * 4);
-    device_.queue.enqueueReadBuffer(framebuffer_, CL_TRUE, 0, rgba.size() * sizeof(float), rgba.data());
+    device_.queue.enqueueReadBuffer(buffers_.framebuffer, CL_TRUE, 0, rgba.size() * sizeof(float), rgba.data());
     Image out(settings_.width, settings_.height);
     for (int p = 0; p < pixels_; ++p)
         for (int c = 0; c < 3; ++c) out.rgb[3 * size_t(p) + c] = rgba[4 * size_t(p) + c];
@@ -431,7 +386,7 @@ Image Renderer::image()
 uint64_t Renderer::nonFiniteCount()
 {
     int count = 0;
-    device_.queue.enqueueReadBuffer(paths_.counters, CL_TRUE, size_t(COUNTER_INDEX(COUNTER_NONFINITE)) * sizeof(int),
+    device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE, size_t(COUNTER_INDEX(COUNTER_NONFINITE)) * sizeof(int),
                                     sizeof count, &count);
     return uint64_t(uint32_t(count));
 }

@@ -8,6 +8,7 @@
 #include "../image/Image.h"
 #include "Algorithm.h"
 #include "HashGrid.h"
+#include "KernelBindings.h"
 #include "LightTable.h"
 #include "PathState.h"
 #include "SceneBuffers.h"
@@ -77,15 +78,19 @@ public:
 
     // The kernel files of the program for an algorithm.
     static std::vector<std::string> kernelFiles(Algorithm algorithm);
+    // Their build options: the algorithm's defines and the scene's features.
+    static std::string programOptions(Algorithm algorithm, const SceneFeatures& features);
 
 private:
-    // The kernels of one kind of sub-path. Their leading arguments follow one
-    // convention per role (kernels/*.cl), which the rounds set.
+    // The kernels of one kind of sub-path, in the order a round runs them.
     struct Phase {
+        bool cameraPaths = false;
         cl::Kernel generate, extend, connectVertices, merge, shade, escaped, connect;
         bool hasConnectVertices = false, hasMerge = false, hasConnect = false;
     };
 
+    cl::Kernel kernel(const char* name);
+    void bindAll();
     void launch(cl::Kernel& kernel, size_t items);
     void runPhase(Phase& phase, int firstSample, int count);
     void round(Phase& phase, int parity, size_t generated, size_t issued, size_t rays);
@@ -100,18 +105,13 @@ private:
     bool bidirectional_ = false;
     LightTable lights_;
     SceneBuffers sceneBuffers_;
+    // Every buffer the render kernels take (kernels/kernel_interface.h), and
+    // the scalars of the next launch: the whole kernel interface.
+    KernelBuffers buffers_;
+    LaunchParams params_{};
     PathState paths_;
     ProgramBuild build_;
-    cl::Buffer camera_;
-    // float4 per pixel: this iteration's sample, by technique family.
-    cl::Buffer pixelRadiance_;      // unidirectional
-    cl::Buffer connectionRadiance_; // vertex connection (camera side)
-    cl::Buffer mergingRadiance_;    // vertex merging
-    cl::Buffer familyMeans_;        // 3 float4 per pixel: running means by family (techniques only)
-    cl::Buffer splatRadiance_; // float4 per pixel: this iteration's light-tracing splats
-    cl::Buffer framebuffer_;   // float4 per pixel: running mean
-    cl::Buffer lightVertices_; // LightVertex[vertexCapacity_]
-    cl::Buffer lightPathHead_; // int per light path of a batch
+    std::vector<cl::Kernel> kernels_; // every render kernel made, for rebinding buffers
     size_t vertexCapacity_ = 0, vertexBudget_ = 0;
     bool useVC_ = false, useVM_ = false;
     float sceneRadius_ = 0, radius_ = 0;

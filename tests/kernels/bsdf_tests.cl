@@ -56,7 +56,7 @@ __kernel void eval_bsdf(__global const Material* materials, __global const int4*
 /* The forward pdf over one bin [θ0, θ0 + dθ] × [φ0, φ0 + dφ]: the midpoint
  * rule with sub × sub points, dω = sin θ dθ dφ. Row sums keep the float
  * accumulation short. */
-inline float bin_integral(const Bsdf* b, float3 wo, bool adjoint, float theta0, float dTheta, float phi0,
+static inline float bin_integral(const Bsdf* b, float3 wo, bool adjoint, float theta0, float dTheta, float phi0,
                           float dPhi, int sub)
 {
     float sum = 0.0f;

@@ -11,7 +11,7 @@ typedef struct Densities {
 } Densities;
 
 /* The BSDF at a vertex with normal n: densities of `out` given `fixed` and back. */
-inline Densities densities(__global const Material* m, float3 n, float3 fixed, float3 out)
+static inline Densities densities(__global const Material* m, float3 n, float3 fixed, float3 out)
 {
     Frame f = frame_from_normal(n);
     float3 a = to_local(&f, fixed), b = to_local(&f, out);
@@ -22,8 +22,8 @@ inline Densities densities(__global const Material* m, float3 n, float3 fixed, f
     return d;
 }
 
-inline float3 unit(float3 from, float3 to) { return normalize(to - from); }
-inline float dist(float3 a, float3 b) { return length(b - a); }
+static inline float3 unit(float3 from, float3 to) { return normalize(to - from); }
+static inline float dist(float3 a, float3 b) { return length(b - a); }
 
 #define MAX_VERTICES 8
 

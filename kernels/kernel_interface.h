@@ -1,0 +1,130 @@
+/* The render kernels' interface, declared once for both compilers.
+ *
+ * Every render kernel takes the same parameters: the device buffers of
+ * RENDER_BUFFERS, in that order, then the launch's scalars (LaunchParams, by
+ * value). A kernel is written `__kernel void name(RENDER_KERNEL_PARAMS)` and
+ * the host binds every kernel from the same lists (host/render/KernelBindings.h),
+ * so no argument order is written anywhere else and a kernel needs no
+ * plumbing to reach a buffer: it uses it by name. Helpers take the buffers as
+ * one `const RenderBuffers*`.
+ *
+ * X(addressSpace, elementType, name, elementsPerPathSlot): the last column is
+ * 0 for buffers not sized by the wavefront; the path state (one element per
+ * path slot, structure of arrays) is allocated from it. */
+#ifndef WAVEVCM_KERNEL_INTERFACE_H
+#define WAVEVCM_KERNEL_INTERFACE_H
+
+#include "queue_ids.h"
+#include "shared_types.h"
+
+#ifndef __OPENCL_C_VERSION__
+namespace wv {
+#endif
+
+/* The scene, uploaded once per render (host/render/SceneBuffers.h). */
+#define SCENE_BUFFERS(X)                                                                                   \
+    X(__global, BvhNode, nodes, 0)           /* the flattened BVH */                                       \
+    X(__global, float4, triVertices, 0)      /* 3 per triangle, BVH order */                               \
+    X(__global, float4, triNormals, 0)       /* 3 per triangle with vertex normals, else 1 */              \
+    X(__global, int, triMaterials, 0)        /* material index per triangle */                             \
+    X(__global, Material, materials, 0)                                                                    \
+    X(__global, Light, lights, 0)            /* the light table (at least one entry) */                    \
+    X(__global, float, lightCdf, 0)          /* light selection by power, lights + 1 entries */            \
+    X(__global, int, triangleLight, 0)       /* light index of an emissive triangle, else -1 */            \
+    X(__constant, SceneInfo, scene, 0)                                                                     \
+    X(__constant, Camera, camera, 0)
+
+/* One wavefront of paths, indexed by path slot (kernels/path_state.h). */
+#define PATH_STATE_BUFFERS(X)                                                                              \
+    X(__global, float4, rayOrigins, 1)                                                                     \
+    X(__global, float4, rayDirections, 1)    /* w = tMax */                                                \
+    X(__global, int, pathPixel, 1)           /* the sample: pixel of a camera path, index of a light path */ \
+    X(__global, int, pathDepth, 1)           /* segments traced before the current ray (path_state.h) */   \
+    X(__global, float4, pathThroughput, 1)                                                                 \
+    X(__global, float, pathPrevPdf, 1)       /* pt: solid-angle pdf of the last BSDF sample, 0 = delta */  \
+    X(__global, float4, pathMis, 1)          /* dVCM, dVC, dVM (mis.h) */                                  \
+    X(__global, int, pathFlags, 1)           /* PATH_* bits */                                             \
+    X(__global, int, pathLastVertex, 1)      /* a light path's last stored vertex */                      \
+    X(__global, float, hitT, 1)                                                                            \
+    X(__global, int, hitTriangle, 1)                                                                       \
+    X(__global, float2, hitBary, 1)                                                                        \
+    X(__global, float4, shadowOrigins, 1)                                                                  \
+    X(__global, float4, shadowDirections, 1) /* w = tMax */                                                \
+    X(__global, float4, shadowContribution, 1)                                                             \
+    X(__global, int, shadowPixel, 1)         /* where a light-tracing shadow ray splats */                 \
+    X(__global, int, queueItems, QUEUE_COUNT) /* queue q: [q·capacity, (q+1)·capacity) */                  \
+    X(__global, int, queueCounters, 0)       /* COUNTER_COUNT counters, COUNTER_STRIDE apart */
+
+/* Per pixel: this iteration's sample by technique family, and the running means. */
+#define IMAGE_BUFFERS(X)                                                                                   \
+    X(__global, float4, pixelRadiance, 0)      /* unidirectional: emission hits, NEE, background */        \
+    X(__global, float4, connectionRadiance, 0) /* vertex connection, camera side */                        \
+    X(__global, float4, mergingRadiance, 0)    /* vertex merging */                                        \
+    X(__global, float4, splatRadiance, 0)      /* light tracing's splats (float compare-and-swap adds) */  \
+    X(__global, float4, framebuffer, 0)        /* running mean */                                          \
+    X(__global, float4, familyMeans, 0)        /* 3 per pixel: running means by family (--aov techniques) */
+
+/* The light sub-paths of a batch, for connection and merging. */
+#define LIGHT_PATH_BUFFERS(X)                                                                              \
+    X(__global, LightVertex, lightVertices, 0)                                                             \
+    X(__global, int, lightPathHead, 0)       /* last stored vertex per light path of the batch */          \
+    X(__global, int, bucketStarts, 0)        /* hash grid (hash_grid.h): first entry per bucket, +1 */     \
+    X(__global, int, bucketVertices, 0)      /* light vertex indices in bucket order */
+
+#define RENDER_BUFFERS(X) SCENE_BUFFERS(X) PATH_STATE_BUFFERS(X) IMAGE_BUFFERS(X) LIGHT_PATH_BUFFERS(X)
+
+/* The scalars of one launch, set by the queue manager before every launch.
+ * 4-byte scalars only: identical layout in both compilers, and rusticl
+ * (Mesa 22.3) miscompiles by-value structs with array members. */
+typedef struct LaunchParams {
+    /* The round (host/render/Renderer.cpp: round) */
+    int capacity;       /* path slots */
+    int rayQueue;       /* RAYS(parity): generate appends to it, extend consumes it */
+    int freeQueue;      /* FREE(parity): generate takes its slots from it */
+    int nextRayQueue;   /* RAYS(1 - parity): paths that continue */
+    int nextFreeQueue;  /* FREE(1 - parity): slots whose path ended */
+    int generateCount;  /* paths generate starts this round */
+    int firstSample;    /* the sample index of the first of them */
+    int rayQueueLength; /* continuing rays already in rayQueue */
+    /* The phase */
+    int cameraPaths;     /* 1: camera sub-paths, 0: light sub-paths */
+    int connectToCamera; /* light paths: splat onto the image (lt, bpt, vcm; 0 when a batch is retraced) */
+    /* The iteration and light-path batch */
+    uint iteration;
+    int firstLightPath;   /* light path index of the batch's first path */
+    int vertexCapacity;   /* lightVertices' length */
+    float vmWeightFactor; /* Georgiev's report, eq. 20: η_VCM = π r² N_light, 0 without merging */
+    float vcWeightFactor; /* 1/η_VCM with connection and merging, else 0 */
+    float mergeRadius;
+    float vmNormalization; /* 1/(π r² N_light) */
+    uint cellCount;        /* hash grid buckets */
+    /* The render */
+    uint seed;
+    int maxPathLength;     /* segments of a full path (path_state.h) */
+    float lightTracePaths; /* light paths per iteration, for light tracing's MIS */
+    int pixels;
+    int storeVertices; /* light paths: keep vertices for connection and merging */
+    int techniques;    /* accumulate: running means per technique family too */
+} LaunchParams;
+
+#ifndef __OPENCL_C_VERSION__
+} /* namespace wv */
+#endif
+
+#ifdef __OPENCL_C_VERSION__
+#define RENDER_KERNEL_PARAM(space, type, name, perSlot) space type* name,
+#define RENDER_KERNEL_PARAMS RENDER_BUFFERS(RENDER_KERNEL_PARAM) const LaunchParams params
+
+/* The same buffers as one value, for helpers (after inlining, just the parameters). */
+typedef struct RenderBuffers {
+#define RENDER_BUFFER_MEMBER(space, type, name, perSlot) space type* name;
+    RENDER_BUFFERS(RENDER_BUFFER_MEMBER)
+#undef RENDER_BUFFER_MEMBER
+} RenderBuffers;
+
+#define RENDER_BUFFER_NAME(space, type, name, perSlot) name,
+/* In a kernel: `RenderBuffers b = RENDER_BUFFERS_VALUE;` */
+#define RENDER_BUFFERS_VALUE {RENDER_BUFFERS(RENDER_BUFFER_NAME)}
+#endif
+
+#endif
