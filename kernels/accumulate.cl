@@ -6,7 +6,8 @@
  * background), vertex connection (connections, light-tracing splats) and
  * vertex merging; with `techniques` each family also gets a running mean of
  * its own (three float4 per pixel in familyMeans). A sample that is NaN or
- * Inf is dropped (counted as zero) and counted; it never reaches the image. */
+ * Inf is dropped (counted as zero) and counted: the last guard of the NaN
+ * policy (nan_policy.h), for finite contributions whose sum overflowed. */
 #include "kernel_interface.h"
 
 static inline float4 take(__global float4* buffer, int pixel)

@@ -9,6 +9,7 @@
 #include "camera_vertex.h"
 #include "lights.h"
 #include "mis.h"
+#include "nan_policy.h"
 #include "path_state.h"
 #include "queues.h"
 #include "surface.h"
@@ -71,12 +72,13 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
         float w = mis_weight_connection(lightMis, mis, cameraFwd * cosLight / dist2, lightFwd * cosCamera / dist2,
                                         lightRev, cameraRev, params.vmWeightFactor);
         float3 c = (w * geometry) * beta * fCamera * fLight * vload3(0, lv->throughput);
+        if (!accept_finite(c, queueCounters))
+            continue;
         Hit occluder;
         if (!trace_ray(nodes, triVertices,
                        ray_between(hit.p, hit.pError, hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF), true,
                        &occluder))
             L += c;
     }
-    if (any(L != 0.0f))
-        connectionRadiance[pixel] += (float4)(L, 0.0f);
+    add_radiance(connectionRadiance, pixel, L, queueCounters);
 }

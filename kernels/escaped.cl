@@ -5,12 +5,13 @@
  * freed either way. */
 #include "lights.h"
 #include "mis.h"
+#include "nan_policy.h"
 #include "path_state.h"
 #include "queues.h"
 
 __kernel void escaped(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[2];
+    __local int scratch[8];
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_ESCAPED, get_global_id(0));
 #if defined(HAS_BACKGROUND) && !defined(EYE_LIGHT)
     if (slot >= 0 && params.cameraPaths && scene->backgroundLight >= 0) {
@@ -31,8 +32,10 @@ __kernel void escaped(RENDER_KERNEL_PARAMS)
         if (prevPdf > 0.0f)
             w = prevPdf * prevPdf / (prevPdf * prevPdf + lightPdf * lightPdf);
 #endif
-        pixelRadiance[pathPixel[slot]] += (float4)(w * pathThroughput[slot].xyz * vload3(0, bg->emission), 0.0f);
+        add_radiance(pixelRadiance, pathPixel[slot], w * pathThroughput[slot].xyz * vload3(0, bg->emission),
+                     queueCounters);
     }
 #endif
-    queue_push(queueItems, queueCounters, params.capacity, params.nextFreeQueue, slot >= 0, slot, scratch);
+    queue_push4(queueItems, queueCounters, params.capacity, (int4)(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER),
+                (int4)(slot >= 0, 0, 0, 0), slot, scratch);
 }

@@ -6,7 +6,7 @@
 
 __kernel void extend(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[2];
+    __local int scratch[8];
     int slot = queue_item(queueItems, queueCounters, params.capacity, params.rayQueue, get_global_id(0));
     bool found = false;
     if (slot >= 0) {
@@ -16,6 +16,6 @@ __kernel void extend(RENDER_KERNEL_PARAMS)
         hitT[slot] = found ? hit.t : INFINITY;
         hitBary[slot] = (float2)(hit.b1, hit.b2);
     }
-    queue_push(queueItems, queueCounters, params.capacity, QUEUE_HITS, slot >= 0 && found, slot, scratch);
-    queue_push(queueItems, queueCounters, params.capacity, QUEUE_ESCAPED, slot >= 0 && !found, slot, scratch);
+    queue_push4(queueItems, queueCounters, params.capacity, (int4)(QUEUE_HITS, QUEUE_ESCAPED, NO_COUNTER, NO_COUNTER),
+                (int4)(slot >= 0 && found, slot >= 0 && !found, 0, 0), slot, scratch);
 }

@@ -58,11 +58,12 @@ __kernel void scan_add(__global int* values, int count, int chunk, __global cons
 }
 
 __kernel void grid_scatter(__global const LightVertex* vertices, int count, float cellSize, uint cellCount,
-                           __global const int* bucketStarts, __global int* bucketFill, __global int* bucketVertices)
+                           __global const int* bucketStarts, __global int* bucketFill, __global float4* bucketPoints)
 {
     int i = get_global_id(0);
     if (i >= count)
         return;
-    uint b = grid_bucket(grid_cell(vload3(0, vertices[i].position), cellSize), cellCount);
-    bucketVertices[bucketStarts[b] + atomic_inc(&bucketFill[b])] = i;
+    float3 p = vload3(0, vertices[i].position);
+    uint b = grid_bucket(grid_cell(p, cellSize), cellCount);
+    bucketPoints[bucketStarts[b] + atomic_inc(&bucketFill[b])] = (float4)(p, as_float(i));
 }

@@ -8,6 +8,7 @@
 #include "camera_vertex.h"
 #include "hash_grid.h"
 #include "mis.h"
+#include "nan_policy.h"
 #include "path_state.h"
 #include "queues.h"
 #include "surface.h"
@@ -37,9 +38,12 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
             continue;
         int end = bucketStarts[buckets[k] + 1];
         for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
-            __global const LightVertex* lv = &lightVertices[bucketVertices[j]];
-            float3 d = vload3(0, lv->position) - hit.p;
-            if (dot(d, d) > radius2 || !path_fits(depth + lv->pathLength, params.maxPathLength))
+            float4 point = bucketPoints[j];
+            float3 d = point.xyz - hit.p;
+            if (dot(d, d) > radius2)
+                continue;
+            __global const LightVertex* lv = &lightVertices[as_int(point.w)];
+            if (!path_fits(depth + lv->pathLength, params.maxPathLength))
                 continue;
             /* The light arrives along the light vertex's incoming direction. */
             float3 toLight = vload3(0, lv->toLight);
@@ -58,6 +62,6 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
             sum += w * f * vload3(0, lv->throughput);
         }
     }
-    if (any(sum != 0.0f))
-        mergingRadiance[pathPixel[slot]] += (float4)(pathThroughput[slot].xyz * sum * params.vmNormalization, 0.0f);
+    add_radiance(mergingRadiance, pathPixel[slot], pathThroughput[slot].xyz * sum * params.vmNormalization,
+                 queueCounters);
 }

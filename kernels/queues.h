@@ -6,39 +6,61 @@
 
 #include "queue_ids.h"
 
-/* Takes the next index of counter `counter` for every work-item that
- * `wants` one (-1 for the others). Aggregated per work-group: one global
- * atomic per group reserves room for all its items. A global atomic per item
- * cost ~95 ns on a 2-core CPU (the counter's cache line bounces between the
- * cores), more than the shading itself. Contains barriers: every work-item
- * of the group must call it. `scratch` is __local int[2], free after the call. */
 /* Helpers with barriers are always inlined: with a static helper that LLVM
  * decides to inline late, PoCL 3.1 (LLVM 15) crashes building the
  * work-group function. */
 #define BARRIER_HELPER static inline __attribute__((always_inline))
 
-BARRIER_HELPER int group_allocate(__global int* counters, int counter, bool wants, __local int* scratch)
+/* No counter (a lane of group_allocate4 that nobody wants). */
+#define NO_COUNTER (-1)
+
+/* For each of up to four counters (lanes x, y, z, w of `counter`), the next
+ * index of that counter for every work-item that `wants` one in that lane,
+ * -1 for the others. Aggregated per work-group: one global atomic per counter
+ * per group reserves room for all its items (a global atomic per item cost
+ * ~95 ns on a 2-core CPU, the counter's cache line bouncing between cores,
+ * more than shading). All of a kernel's pushes go through one call: it has
+ * three barriers, and on PoCL each barrier splits the work-group loop and
+ * spills the live values. Every work-item of the group must call it, once
+ * per kernel; `scratch` is __local int[8]. */
+BARRIER_HELPER int4 group_allocate4(__global int* counters, int4 counter, int4 wants, __local int* scratch)
 {
     if (get_local_id(0) == 0)
-        scratch[0] = 0;
+        vstore4((int4)(0), 0, scratch);
     barrier(CLK_LOCAL_MEM_FENCE);
-    int index = wants ? atomic_inc(&scratch[0]) : 0;
+    int4 index;
+    index.x = wants.x ? atomic_inc(&scratch[0]) : 0;
+    index.y = wants.y ? atomic_inc(&scratch[1]) : 0;
+    index.z = wants.z ? atomic_inc(&scratch[2]) : 0;
+    index.w = wants.w ? atomic_inc(&scratch[3]) : 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (get_local_id(0) == 0)
-        scratch[1] = scratch[0] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter)], scratch[0]) : 0;
+    if (get_local_id(0) == 0) {
+        int4 n = vload4(0, scratch);
+        int4 base;
+        base.x = n.x > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.x)], n.x) : 0;
+        base.y = n.y > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.y)], n.y) : 0;
+        base.z = n.z > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.z)], n.z) : 0;
+        base.w = n.w > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.w)], n.w) : 0;
+        vstore4(base, 1, scratch);
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
-    int result = wants ? scratch[1] + index : -1;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    return result;
+    return select((int4)(-1), vload4(1, scratch) + index, wants != 0);
 }
 
-/* Appends `slot` to `queue` if `push` (group_allocate's rules apply). */
-BARRIER_HELPER void queue_push(__global int* items, __global int* counters, int capacity, int queue, bool push, int slot,
-                       __local int* scratch)
+/* Appends `slot` to each queue of `queues` whose lane of `push` is set
+ * (group_allocate4's rules apply; unused lanes: NO_COUNTER, push 0). */
+BARRIER_HELPER void queue_push4(__global int* items, __global int* counters, int capacity, int4 queues, int4 push,
+                                int slot, __local int* scratch)
 {
-    int index = group_allocate(counters, queue, push, scratch);
-    if (push)
-        items[queue * capacity + index] = slot;
+    int4 at = group_allocate4(counters, queues, push, scratch);
+    if (at.x >= 0)
+        items[queues.x * capacity + at.x] = slot;
+    if (at.y >= 0)
+        items[queues.y * capacity + at.y] = slot;
+    if (at.z >= 0)
+        items[queues.z * capacity + at.z] = slot;
+    if (at.w >= 0)
+        items[queues.w * capacity + at.w] = slot;
 }
 
 /* The slot of the i-th entry of `queue`, or -1 past its end. */

@@ -3,13 +3,15 @@
  *      sampled this light from the previous vertex;
  *   2. next-event estimation: sample a light, queue a shadow ray with its
  *      MIS-weighted contribution for `connect`;
- *   3. sample the BSDF to continue (Russian roulette after 3 segments), or end
- *      the path and free the slot.
+ *   3. sample the BSDF to continue (Russian roulette after 3 segments, on the
+ *      throughput with refraction's 1/η² divided out), or end the path and
+ *      free the slot.
  * MIS uses the power heuristic (Veach 1997, §9.2.4) between BSDF sampling and
  * light sampling; delta lights and delta lobes take weight 1.
  * Path length as in path_state.h: a vertex of depth d continues (and
  * samples a light) only if a path of d + 1 segments fits. */
 #include "bsdf.h"
+#include "continue_path.h"
 #include "lights.h"
 #include "path_state.h"
 #include "queues.h"
@@ -28,7 +30,9 @@ static inline void shade_hit(const RenderBuffers* b, const LaunchParams* params,
     SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, b->hitBary[slot], wo);
     int depth = hit_depth(b->pathDepth, slot);
     int pixel = b->pathPixel[slot];
-    float3 beta = b->pathThroughput[slot].xyz;
+    float4 throughput = b->pathThroughput[slot];
+    float3 beta = throughput.xyz;
+    float etaScale = throughput.w; /* η² of the refractions so far (generate starts it at 1) */
     float3 L = (float3)(0.0f);
 
 #ifdef HAS_EMISSIVE_TRIANGLES
@@ -56,9 +60,9 @@ static inline void shade_hit(const RenderBuffers* b, const LaunchParams* params,
             if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfBsdf, pdfRev;
                 float3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfBsdf, &pdfRev);
-                if (max_component(f) > 0.0f) {
-                    float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, pdfBsdf);
-                    float3 contribution = beta * f * fabs(wiL.z) * ls.radiance * (w / ls.pdf);
+                float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, pdfBsdf);
+                float3 contribution = beta * f * fabs(wiL.z) * ls.radiance * (w / ls.pdf);
+                if (max_component(f) > 0.0f && accept_finite(contribution, b->queueCounters)) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,
                               shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));
                     b->shadowContribution[slot] = (float4)(contribution, 0.0f);
@@ -70,45 +74,40 @@ static inline void shade_hit(const RenderBuffers* b, const LaunchParams* params,
 
     if (alive) {
         float4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 1u);
-        BsdfSample bs;
-        alive = bsdf_sample(&bsdf, woL, u.xyz, false, &bs);
-        float3 wi = to_world(&hit.frame, bs.wi);
-        alive = alive && sides_agree(&hit, wi, bs.wi);
+        Scatter s;
+        alive = scatter(&bsdf, &hit, wo, woL, u.xyz, false, false, &s);
         if (alive) {
-            beta *= bs.weight;
-            if (depth >= 3) { /* Russian roulette: survive with probability q, reweight by 1/q */
-                float q = fmin(1.0f, max_component(beta));
+            beta *= s.weight;
+            if (s.refracted)
+                etaScale *= bsdf.eta * bsdf.eta;
+            if (depth >= 3) {
+                /* Russian roulette: survive with probability q, reweight by 1/q.
+                 * q sees the throughput without refraction's 1/η² (pbrt-v4's
+                 * etaScale): inside glass that scale says nothing about what
+                 * the path is worth, and would end it η² times too often. */
+                float q = fmin(1.0f, max_component(beta) * etaScale);
                 alive = u.w < q;
                 beta /= q;
             }
-            if (!all(isfinite(beta))) {
-                L += (float3)(NAN); /* the sample is dropped and counted by accumulate */
-                alive = false;
-            }
-            alive = alive && max_component(beta) > 0.0f;
-        }
-        if (alive) {
-            store_ray(b->rayOrigins, b->rayDirections, slot, spawn_ray(hit.p, hit.pError, hit.ngF, wi));
-            b->pathThroughput[slot] = (float4)(beta, 0.0f);
-            b->pathPrevPdf[slot] = bs.delta ? 0.0f : bs.pdf;
-            b->pathDepth[slot] = depth;
+            alive = alive && store_continuation(b, slot, &hit, s.wi, beta, etaScale, depth);
+            if (alive)
+                b->pathPrevPdf[slot] = s.delta ? 0.0f : s.pdfW;
         }
     }
 
-    if (any(L != 0.0f))
-        b->pixelRadiance[pixel] += (float4)(L, 0.0f);
+    add_radiance(b->pixelRadiance, pixel, L, b->queueCounters);
     *aliveOut = alive;
 }
 
 __kernel void shade(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[2];
+    __local int scratch[8];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     bool alive = false, shadowRay = false;
     if (slot >= 0)
         shade_hit(&b, &params, slot, &alive, &shadowRay);
-    queue_push(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, shadowRay, slot, scratch);
-    queue_push(queueItems, queueCounters, params.capacity, params.nextRayQueue, alive, slot, scratch);
-    queue_push(queueItems, queueCounters, params.capacity, params.nextFreeQueue, slot >= 0 && !alive, slot, scratch);
+    queue_push4(queueItems, queueCounters, params.capacity,
+                (int4)(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
+                (int4)(shadowRay, alive, slot >= 0 && !alive, 0), slot, scratch);
 }

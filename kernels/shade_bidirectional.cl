@@ -13,6 +13,7 @@
  *      continuation probability (part of every pdf in the weights); ppm ends
  *      the path at its first non-delta vertex, where it merged. */
 #include "bsdf.h"
+#include "continue_path.h"
 #include "lights.h"
 #include "mis.h"
 #include "path_state.h"
@@ -75,13 +76,13 @@ static inline CameraHitResult shade_camera_hit(const RenderBuffers* b, const Lau
             if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfFwd, pdfRev;
                 float3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfFwd, &pdfRev);
-                if (max_component(f) > 0.0f) {
-                    float cosToLight = fabs(wiL.z);
-                    float bsdfDirPdfW = ls.delta ? 0.0f : pdfFwd * cont;
-                    float bsdfRevPdfW = pdfRev * cont;
-                    float w = mis_weight_nee(mis, bsdfDirPdfW, bsdfRevPdfW, ls.directPdfW, ls.emissionPdfW,
-                                             cosToLight, ls.cosAtLight, params->vmWeightFactor);
-                    float3 contribution = beta * f * ls.radiance * (w * cosToLight / ls.pdf);
+                float cosToLight = fabs(wiL.z);
+                float bsdfDirPdfW = ls.delta ? 0.0f : pdfFwd * cont;
+                float bsdfRevPdfW = pdfRev * cont;
+                float w = mis_weight_nee(mis, bsdfDirPdfW, bsdfRevPdfW, ls.directPdfW, ls.emissionPdfW, cosToLight,
+                                         ls.cosAtLight, params->vmWeightFactor);
+                float3 contribution = beta * f * ls.radiance * (w * cosToLight / ls.pdf);
+                if (max_component(f) > 0.0f && accept_finite(contribution, b->queueCounters)) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,
                               shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));
                     b->shadowContribution[slot] = (float4)(contribution, 0.0f);
@@ -94,51 +95,30 @@ static inline CameraHitResult shade_camera_hit(const RenderBuffers* b, const Lau
 
     if (alive) {
         float4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 1u);
-        BsdfSample bs;
-        alive = bsdf_sample(&bsdf, woL, u.xyz, false, &bs);
-        float3 wi = to_world(&hit.frame, bs.wi);
-        alive = alive && sides_agree(&hit, wi, bs.wi) && u.w < cont;
+        Scatter s;
+        alive = continue_bidirectional(&bsdf, &hit, wo, woL, u, false, cont, params, &mis, &beta, &s) &&
+                store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth);
         if (alive) {
-            float pdfW = bs.pdf * cont, revPdfW = pdfW;
-            if (!bs.delta) {
-                float fwd, rev;
-                bsdf_eval(&bsdf, woL, bs.wi, false, &fwd, &rev);
-                revPdfW = rev * cont;
-            }
-            mis_after_scatter(&mis, bs.delta, fabs(bs.wi.z), pdfW, revPdfW, params->vmWeightFactor, params->vcWeightFactor);
-            beta *= bs.weight / cont;
-            if (!all(isfinite(beta))) {
-                L += (float3)(NAN); /* the sample is dropped and counted by accumulate */
-                alive = false;
-            }
-            alive = alive && max_component(beta) > 0.0f;
-        }
-        if (alive) {
-            store_ray(b->rayOrigins, b->rayDirections, slot, spawn_ray(hit.p, hit.pError, hit.ngF, wi));
-            b->pathThroughput[slot] = (float4)(beta, 0.0f);
             store_mis(b->pathMis, slot, mis);
-            b->pathDepth[slot] = depth;
-            if (!bs.delta)
+            if (!s.delta)
                 b->pathFlags[slot] = 0;
         }
     }
     r.alive = alive ? 1 : 0;
 #endif
-    if (any(L != 0.0f))
-        b->pixelRadiance[pixel] += (float4)(L, 0.0f);
+    add_radiance(b->pixelRadiance, pixel, L, b->queueCounters);
     return r;
 }
 
 __kernel void shade_bidirectional(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[2];
+    __local int scratch[8];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     CameraHitResult r = {0, 0};
     if (slot >= 0)
         r = shade_camera_hit(&b, &params, slot);
-    queue_push(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, r.shadowRay, slot, scratch);
-    queue_push(queueItems, queueCounters, params.capacity, params.nextRayQueue, r.alive, slot, scratch);
-    queue_push(queueItems, queueCounters, params.capacity, params.nextFreeQueue, slot >= 0 && !r.alive, slot,
-               scratch);
+    queue_push4(queueItems, queueCounters, params.capacity,
+                (int4)(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
+                (int4)(r.shadowRay, r.alive, slot >= 0 && !r.alive, 0), slot, scratch);
 }

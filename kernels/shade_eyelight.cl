@@ -7,7 +7,7 @@
 
 __kernel void shade_eyelight(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[2];
+    __local int scratch[8];
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot >= 0) {
         int tri = hitTriangle[slot];
@@ -18,5 +18,6 @@ __kernel void shade_eyelight(RENDER_KERNEL_PARAMS)
         float value = fabs(dot(normalize(rayDirections[slot].xyz), n));
         pixelRadiance[pathPixel[slot]] += (float4)(value, value, value, 0.0f);
     }
-    queue_push(queueItems, queueCounters, params.capacity, params.nextFreeQueue, slot >= 0, slot, scratch);
+    queue_push4(queueItems, queueCounters, params.capacity, (int4)(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER),
+                (int4)(slot >= 0, 0, 0, 0), slot, scratch);
 }

@@ -13,6 +13,7 @@
  * only worth continuing from if a path through the next vertex (d + 2
  * segments, the camera connection included) fits. */
 #include "bsdf.h"
+#include "continue_path.h"
 #include "camera.h"
 #include "lights.h"
 #include "mis.h"
@@ -83,7 +84,7 @@ static inline LightHitResult shade_light_hit(const RenderBuffers* b, const Launc
                 w = mis_weight_light_to_camera(mis, cameraPdfA, params->lightTracePaths, pdfRev * cont, params->vmWeightFactor);
 #endif
                 float3 contribution = w * beta * f * (cameraPdfA / params->lightTracePaths);
-                if (max_component(contribution) > 0.0f) {
+                if (accept_finite(contribution, b->queueCounters) && max_component(contribution) > 0.0f) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,
                               ray_between(hit.p, hit.pError, hit.ngF, cameraPosition, (float3)(0.0f), -toCamera));
                     b->shadowContribution[slot] = (float4)(contribution, 0.0f);
@@ -97,52 +98,40 @@ static inline LightHitResult shade_light_hit(const RenderBuffers* b, const Launc
     if (!path_fits(depth + 2, params->maxPathLength))
         return r; /* the next vertex could not even connect to the camera */
     float4 u = rng_uniform4(params->seed, params->iteration, (uint)lightPath, (uint)depth, 3u);
-    BsdfSample bs;
-    if (!bsdf_sample(&bsdf, wLightL, u.xyz, true, &bs))
+    Scatter s;
+    if (!continue_bidirectional(&bsdf, &hit, wLight, wLightL, u, true, cont, params, &mis, &beta, &s) ||
+        !store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth))
         return r;
-    float3 wOut = to_world(&hit.frame, bs.wi);
-    if (!sides_agree(&hit, wOut, bs.wi) || u.w >= cont)
-        return r;
-    float pdfW = bs.pdf * cont, revPdfW = pdfW;
-    if (!bs.delta) {
-        float fwd, rev;
-        bsdf_eval(&bsdf, wLightL, bs.wi, true, &fwd, &rev);
-        revPdfW = rev * cont;
-    }
-    mis_after_scatter(&mis, bs.delta, fabs(bs.wi.z), pdfW, revPdfW, params->vmWeightFactor, params->vcWeightFactor);
-    beta *= bs.weight * (adjoint_shading_correction(&hit, wLight, wOut) / cont);
-    if (!all(isfinite(beta))) {
-        atomic_inc(&b->queueCounters[COUNTER_INDEX(COUNTER_NONFINITE)]);
-        return r;
-    }
-    store_ray(b->rayOrigins, b->rayDirections, slot, spawn_ray(hit.p, hit.pError, hit.ngF, wOut));
-    b->pathThroughput[slot] = (float4)(beta, 0.0f);
     store_mis(b->pathMis, slot, mis);
-    b->pathDepth[slot] = depth;
-    r.alive = max_component(beta) > 0.0f ? 1 : 0;
+    r.alive = 1;
     return r;
 }
 
 __kernel void shade_light(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[2];
+    __local int scratch[8];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     LightHitResult r;
     r.alive = r.shadowRay = r.storeVertex = 0;
     if (slot >= 0)
         r = shade_light_hit(&b, &params, slot);
-    /* The counter keeps counting past the buffer's end, so the host sees how
-     * many vertices were wanted and can retry with room for them. */
-    int index = group_allocate(queueCounters, COUNTER_LIGHT_VERTICES, r.storeVertex, scratch);
-    if (r.storeVertex && index < params.vertexCapacity) {
+    /* One reservation for the three queues and the light vertices. The
+     * vertex counter keeps counting past the buffer's end, so the host sees
+     * how many vertices were wanted and can retry with room for them. */
+    int4 queues = (int4)(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, COUNTER_LIGHT_VERTICES);
+    int4 at = group_allocate4(queueCounters, queues,
+                              (int4)(r.shadowRay, r.alive, slot >= 0 && !r.alive, r.storeVertex), scratch);
+    if (at.x >= 0)
+        queueItems[queues.x * params.capacity + at.x] = slot;
+    if (at.y >= 0)
+        queueItems[queues.y * params.capacity + at.y] = slot;
+    if (at.z >= 0)
+        queueItems[queues.z * params.capacity + at.z] = slot;
+    if (at.w >= 0 && at.w < params.vertexCapacity) {
         r.vertex.prev = pathLastVertex[slot];
-        lightVertices[index] = r.vertex;
-        pathLastVertex[slot] = index;
-        lightPathHead[pathPixel[slot] - params.firstLightPath] = index;
+        lightVertices[at.w] = r.vertex;
+        pathLastVertex[slot] = at.w;
+        lightPathHead[pathPixel[slot] - params.firstLightPath] = at.w;
     }
-    queue_push(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, r.shadowRay, slot, scratch);
-    queue_push(queueItems, queueCounters, params.capacity, params.nextRayQueue, r.alive, slot, scratch);
-    queue_push(queueItems, queueCounters, params.capacity, params.nextFreeQueue, slot >= 0 && !r.alive, slot,
-               scratch);
 }

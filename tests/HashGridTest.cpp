@@ -56,7 +56,7 @@ void checkCase(const DeviceInfo& info, const Case& c)
     int arg = 0;
     k.setArg(arg++, vertexBuffer);
     k.setArg(arg++, grid.bucketStarts());
-    k.setArg(arg++, grid.bucketVertices());
+    k.setArg(arg++, grid.bucketPoints());
     k.setArg(arg++, grid.buckets());
     k.setArg(arg++, c.radius);
     k.setArg(arg++, queryBuffer);

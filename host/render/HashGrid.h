@@ -25,7 +25,7 @@ public:
     void build(const cl::Buffer& vertices, int count, float radius);
 
     const cl::Buffer& bucketStarts() const { return bucketStarts_; }     // int[buckets + 1]
-    const cl::Buffer& bucketVertices() const { return bucketVertices_; } // int[vertices]
+    const cl::Buffer& bucketPoints() const { return bucketPoints_; } // float4[vertices]: position, as_float(index)
     uint32_t buckets() const { return buckets_; }
 
     // The names of hash_grid.cl's kernels.
@@ -36,7 +36,7 @@ private:
 
     DeviceContext& device_;
     cl::Kernel count_, scanChunks_, scanTotals_, scanAdd_, scatter_;
-    cl::Buffer bucketStarts_, bucketFill_, bucketVertices_, chunkTotals_;
+    cl::Buffer bucketStarts_, bucketFill_, bucketPoints_, chunkTotals_;
     uint32_t buckets_ = 0;
     size_t capacity_ = 0;
 };

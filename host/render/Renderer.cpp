@@ -186,7 +186,7 @@ void Renderer::ensureLightVertexCapacity(size_t vertices)
     if (grid_) {
         grid_->reserve(vertexCapacity_);
         buffers_.bucketStarts = grid_->bucketStarts();
-        buffers_.bucketVertices = grid_->bucketVertices();
+        buffers_.bucketPoints = grid_->bucketPoints();
         params_.cellCount = grid_->buckets();
     }
     bindAll();

@@ -5,7 +5,7 @@
 #include "shared_types.h"
 
 __kernel void grid_query(__global const LightVertex* vertices, __global const int* bucketStarts,
-                         __global const int* bucketVertices, uint buckets, float radius,
+                         __global const float4* bucketPoints, uint buckets, float radius,
                          __global const float4* queries, int queryCount, __global int* found,
                          __global long* indexSums)
 {
@@ -21,8 +21,9 @@ __kernel void grid_query(__global const LightVertex* vertices, __global const in
         if (b[k] < 0)
             continue;
         for (int j = bucketStarts[b[k]]; j < bucketStarts[b[k] + 1]; ++j) {
-            int v = bucketVertices[j];
-            float3 d = vload3(0, vertices[v].position) - x;
+            float4 point = bucketPoints[j];
+            int v = as_int(point.w);
+            float3 d = point.xyz - x;
             if (dot(d, d) <= radius * radius) {
                 ++n;
                 sum += v;
