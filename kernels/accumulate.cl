@@ -8,9 +8,10 @@
  * its own (three float4 per pixel in familyMeans). A sample that is NaN or
  * Inf is dropped (counted as zero) and counted: the last guard of the NaN
  * policy (nan_policy.h), for finite contributions whose sum overflowed. */
+#include "inline.h"
 #include "kernel_interface.h"
 
-static inline float4 take(__global float4* buffer, int pixel)
+INLINE float4 take(__global float4* buffer, int pixel)
 {
     float4 x = buffer[pixel];
     buffer[pixel] = (float4)(0.0f);

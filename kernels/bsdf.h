@@ -12,6 +12,7 @@
 #ifndef WAVEVCM_BSDF_H
 #define WAVEVCM_BSDF_H
 
+#include "inline.h"
 #include "fresnel.h"
 #include "ggx.h"
 #include "shared_types.h"
@@ -45,13 +46,13 @@ typedef struct BsdfSample {
 
 /* Reflectance of the reflection lobe at cos θ (of a microfacet, or of the
  * surface for the smooth lobe): metal Schlick plus the layer's exact Fresnel. */
-static inline float3 reflectance(const Bsdf* b, float cosH, float eta)
+INLINE float3 reflectance(const Bsdf* b, float cosH, float eta)
 {
     return b->metallic * fresnel_schlick(b->metalF0, cosH) + b->specularTint * fresnel_dielectric(cosH, eta);
 }
 
 /* What the dielectric layer lets through to transmission and diffuse. */
-static inline float layer_transmittance(const Bsdf* b, float cosH, float eta)
+INLINE float layer_transmittance(const Bsdf* b, float cosH, float eta)
 {
     return 1.0f - b->specular * fresnel_dielectric(cosH, eta);
 }
@@ -59,7 +60,7 @@ static inline float layer_transmittance(const Bsdf* b, float cosH, float eta)
 /* Lobe selection probabilities for a path arriving from direction w
  * (cos θ = cosW > 0, relative index eta), proportional to each lobe's
  * albedo estimate there. */
-static inline float3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
+INLINE float3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
 {
     float through = layer_transmittance(b, cosW, eta);
     float r = (b->lobes & LOBES_REFLECT) ? luminance(reflectance(b, cosW, eta)) : 0.0f;
@@ -76,7 +77,7 @@ static inline float3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
 
 /* The BSDF at a hit seen from local direction wo (wo.z > 0 after the caller
  * flipped the frame); frontSide: wo is on the side the normal points to. */
-static inline Bsdf make_bsdf(__global const Material* m, float3 wo, bool frontSide)
+INLINE Bsdf make_bsdf(__global const Material* m, float3 wo, bool frontSide)
 {
     Bsdf b;
     b.lobes = m->lobes & SCENE_LOBES;
@@ -101,31 +102,39 @@ static inline Bsdf make_bsdf(__global const Material* m, float3 wo, bool frontSi
  * an upper bound of the material's albedo that does not depend on direction,
  * so the same probability enters the forward and the reverse pdfs and the
  * MIS weights of all techniques still sum to one. */
-static inline float continuation_probability(const Bsdf* b)
+INLINE float continuation_probability(const Bsdf* b)
 {
     float3 albedo = b->metallic * b->metalF0 + b->specularTint + b->transmitColor + b->diffuseColor;
     return clamp(max_component(albedo), 0.0f, 1.0f);
 }
 
-static inline bool bsdf_is_black(const Bsdf* b) { return b->lobeProb.x + b->lobeProb.y + b->lobeProb.z <= 0.0f; }
+/* False when the material has only delta lobes (in this scene): then no
+ * BSDF made from it has a nondelta lobe, and connections and merges at its
+ * surface can be skipped before building one. */
+INLINE bool material_has_nondelta(__global const Material* m)
+{
+    return (m->lobes & SCENE_LOBES & (LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0u;
+}
+
+INLINE bool bsdf_is_black(const Bsdf* b) { return b->lobeProb.x + b->lobeProb.y + b->lobeProb.z <= 0.0f; }
 
 /* Whether some lobe has a finite density, i.e. light sampling and
  * connections can contribute here. */
-static inline bool bsdf_has_nondelta(const Bsdf* b)
+INLINE bool bsdf_has_nondelta(const Bsdf* b)
 {
     return b->lobeProb.z > 0.0f || (b->lobeProb.x > 0.0f && (b->lobes & LOBE_GGX_REFLECTION)) ||
            (b->lobeProb.y > 0.0f && (b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts);
 }
 
 /* Generalised half vector of refraction h ∝ wo + η·wi, oriented to +z. */
-static inline float3 refraction_half_vector(float3 wo, float3 wi, float eta)
+INLINE float3 refraction_half_vector(float3 wo, float3 wi, float eta)
 {
     float3 h = normalize(wo + eta * wi);
     return h.z < 0.0f ? -h : h;
 }
 
 /* Jacobian dω_h/dω_i of refraction, |wi·h| / (wi·h + wo·h/η)² (Walter et al. 2007). */
-static inline float refraction_jacobian(float oh, float ih, float eta)
+INLINE float refraction_jacobian(float oh, float ih, float eta)
 {
     float denom = ih + oh / eta;
     return fabs(ih) / (denom * denom);
@@ -133,7 +142,7 @@ static inline float refraction_jacobian(float oh, float ih, float eta)
 
 /* f(wo, wi) of the non-delta lobes; *pdfFwd is the density of sampling wi
  * from wo, *pdfRev that of sampling wo from wi (bidirectional MIS). */
-static inline float3 bsdf_eval(const Bsdf* b, float3 wo, float3 wi, bool adjoint, float* pdfFwd, float* pdfRev)
+INLINE float3 bsdf_eval(const Bsdf* b, float3 wo, float3 wi, bool adjoint, float* pdfFwd, float* pdfRev)
 {
     float3 f = (float3)(0.0f);
     *pdfFwd = 0.0f;
@@ -190,7 +199,7 @@ static inline float3 bsdf_eval(const Bsdf* b, float3 wo, float3 wi, bool adjoint
 /* Samples wi given wo with the lobe probabilities, then the lobe. Returns
  * false if no direction was produced (black BSDF, below the surface, TIR in
  * a rough transmission sample). u.x picks the lobe; u.yz sample it. */
-static inline bool bsdf_sample(const Bsdf* b, float3 wo, float3 u, bool adjoint, BsdfSample* s)
+INLINE bool bsdf_sample(const Bsdf* b, float3 wo, float3 u, bool adjoint, BsdfSample* s)
 {
     if (wo.z <= 0.0f || bsdf_is_black(b))
         return false;

@@ -3,6 +3,7 @@
 #ifndef WAVEVCM_BVH_TRAVERSAL_H
 #define WAVEVCM_BVH_TRAVERSAL_H
 
+#include "inline.h"
 #include "shared_types.h"
 #include "intersect_triangle.h"
 
@@ -23,7 +24,7 @@ typedef struct Hit {
  * enlarged by 1 + 2γ(3) (Ize, "Robust BVH Ray Traversal", JCGT 2013) so
  * rounding never culls a box the ray touches, which keeps the watertight
  * triangle test watertight through the tree. */
-static inline bool ray_hits_box(float3 origin, float3 invDir, float3 lo, float3 hi, float tMax)
+INLINE bool ray_hits_box(float3 origin, float3 invDir, float3 lo, float3 hi, float tMax)
 {
     float3 t0 = (lo - origin) * invDir, t1 = (hi - origin) * invDir;
     t0 = select(t0, -invDir, isnan(t0));
@@ -34,11 +35,11 @@ static inline bool ray_hits_box(float3 origin, float3 invDir, float3 lo, float3 
     return enter <= leave;
 }
 
-static inline float3 load_float3(__global const float* p) { return (float3)(p[0], p[1], p[2]); }
+INLINE float3 load_float3(__global const float* p) { return (float3)(p[0], p[1], p[2]); }
 
 /* Returns whether anything was hit before ray.tMax. With anyHit the first hit
  * found ends the search and *hit holds that hit, not the closest. */
-static inline bool trace_ray(__global const BvhNode* nodes, __global const float4* triVertices, Ray ray,
+INLINE bool trace_ray(__global const BvhNode* nodes, __global const float4* triVertices, Ray ray,
                       bool anyHit, Hit* hit)
 {
     ShearedRay sheared = shear_ray(ray);

@@ -4,10 +4,11 @@
 #ifndef WAVEVCM_CAMERA_H
 #define WAVEVCM_CAMERA_H
 
+#include "inline.h"
 #include "shared_types.h"
 #include "ray.h"
 
-static inline Ray camera_ray(__constant const Camera* cam, int pixel, float2 jitter)
+INLINE Ray camera_ray(__constant const Camera* cam, int pixel, float2 jitter)
 {
     float x = (float)(pixel % cam->width) + jitter.x;
     float y = (float)(pixel / cam->width) + jitter.y;
@@ -24,7 +25,7 @@ static inline Ray camera_ray(__constant const Camera* cam, int pixel, float2 jit
  * is chosen uniformly over one pixel: the image plane sits where a pixel has
  * area 1, at distance H / (2 tan(fov/2)), and the density is
  * distance(image point)² / cos θ (SmallVCM's convention). */
-static inline float camera_pdf_w(__constant const Camera* cam, float3 d)
+INLINE float camera_pdf_w(__constant const Camera* cam, float3 d)
 {
     float cosAtCamera = dot(d, vload3(0, cam->forward));
     if (cosAtCamera <= 0.0f)
@@ -36,7 +37,7 @@ static inline float camera_pdf_w(__constant const Camera* cam, float3 d)
 
 /* The pixel a world point projects to, or -1 when it is behind the camera
  * or outside the image. */
-static inline int camera_pixel(__constant const Camera* cam, float3 point)
+INLINE int camera_pixel(__constant const Camera* cam, float3 point)
 {
     float3 d = point - vload3(0, cam->position);
     float depth = dot(d, vload3(0, cam->forward));

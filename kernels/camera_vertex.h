@@ -4,6 +4,7 @@
 #ifndef WAVEVCM_CAMERA_VERTEX_H
 #define WAVEVCM_CAMERA_VERTEX_H
 
+#include "inline.h"
 #include "bsdf.h"
 #include "kernel_interface.h"
 #include "mis.h"
@@ -17,7 +18,7 @@ typedef struct CameraVertex {
     float continuation;
 } CameraVertex;
 
-static inline CameraVertex camera_vertex(const RenderBuffers* b, int slot)
+INLINE CameraVertex camera_vertex(const RenderBuffers* b, int slot)
 {
     CameraVertex v;
     int tri = b->hitTriangle[slot];

@@ -6,6 +6,7 @@
  *   connect_splat  to the pixel a light path vertex projects to (light
  *                  tracing): many may hit one pixel, so the adds are atomic.
  *                  The sum then depends on timing only by float rounding. */
+#include "inline.h"
 #include "bvh_traversal.h"
 #include "path_state.h"
 #include "queues.h"
@@ -21,7 +22,7 @@ __kernel void connect(RENDER_KERNEL_PARAMS)
 }
 
 /* *p += v as a compare-and-swap loop: OpenCL 1.2 has no float atomics. */
-static inline void atomic_add_float(volatile __global float* p, float v)
+INLINE void atomic_add_float(volatile __global float* p, float v)
 {
     union {
         uint u;

@@ -23,6 +23,8 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
     int depth = hit_depth(pathDepth, slot);
     if (!path_fits(depth + 1 + 1, params.maxPathLength)) /* even the first light vertex makes it too long */
         return;
+    if (!material_has_nondelta(&materials[triMaterials[hitTriangle[slot]]]))
+        return;
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;

@@ -6,6 +6,7 @@
 #ifndef WAVEVCM_CONTINUE_PATH_H
 #define WAVEVCM_CONTINUE_PATH_H
 
+#include "inline.h"
 #include "bsdf.h"
 #include "kernel_interface.h"
 #include "mis.h"
@@ -28,7 +29,7 @@ typedef struct Scatter {
  * wi lies on the other side of the geometric surface than its side of the
  * shading frame says (sides_agree). `reverse`: evaluate revPdfW too (the
  * bidirectional MIS needs it; pt does not). */
-static inline bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, float3 woL, float3 u, bool adjoint,
+INLINE bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, float3 woL, float3 u, bool adjoint,
                            bool reverse, Scatter* s)
 {
     BsdfSample bs;
@@ -56,7 +57,7 @@ static inline bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, f
  * probability `cont` (u.w < cont; it is part of both pdfs, so of every MIS
  * weight), update the MIS quantities (Georgiev's report, eqs. 34-36) and the
  * throughput, β ← β · weight / cont. */
-static inline bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, float3 woL, float4 u,
+INLINE bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, float3 woL, float4 u,
                                           bool adjoint, float cont, const LaunchParams* params, PathMis* mis,
                                           float3* beta, Scatter* s)
 {
@@ -72,7 +73,7 @@ static inline bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hi
  * (w: pt's η² scale, else 0) and depth `depth` for the vertex it leaves.
  * False, and nothing stored, when beta is zero or rejected by the NaN policy:
  * the path ends. */
-static inline bool store_continuation(const RenderBuffers* b, int slot, const SurfaceHit* hit, float3 wi,
+INLINE bool store_continuation(const RenderBuffers* b, int slot, const SurfaceHit* hit, float3 wi,
                                       float3 beta, float w, int depth)
 {
     if (!accept_finite(beta, b->queueCounters) || !(max_component(beta) > 0.0f))

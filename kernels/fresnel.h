@@ -2,10 +2,12 @@
 #ifndef WAVEVCM_FRESNEL_H
 #define WAVEVCM_FRESNEL_H
 
+#include "inline.h"
+
 /* Exact unpolarised reflectance of a smooth dielectric interface for light
  * arriving at cos θ_i (> 0) from the side where the relative index of
  * refraction η = η_t / η_i. Total internal reflection gives 1. */
-static inline float fresnel_dielectric(float cosI, float eta)
+INLINE float fresnel_dielectric(float cosI, float eta)
 {
     cosI = clamp(cosI, 0.0f, 1.0f);
     float sin2T = (1.0f - cosI * cosI) / (eta * eta);
@@ -18,7 +20,7 @@ static inline float fresnel_dielectric(float cosI, float eta)
 }
 
 /* glTF's metal Fresnel: Schlick's approximation with F0 = the base colour. */
-static inline float3 fresnel_schlick(float3 f0, float cosI)
+INLINE float3 fresnel_schlick(float3 f0, float cosI)
 {
     float m = clamp(1.0f - cosI, 0.0f, 1.0f);
     float m2 = m * m;
@@ -28,7 +30,7 @@ static inline float3 fresnel_schlick(float3 f0, float cosI)
 /* Refract w (pointing away from the surface, on the side of n) through the
  * interface with normal n and relative index η = η_t / η_i. Returns false on
  * total internal reflection. */
-static inline bool refract_direction(float3 w, float3 n, float eta, float3* out)
+INLINE bool refract_direction(float3 w, float3 n, float eta, float3* out)
 {
     float cosI = dot(n, w);
     float sin2T = (1.0f - cosI * cosI) / (eta * eta);

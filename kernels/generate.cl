@@ -6,6 +6,7 @@
  *                   jittered primary ray (box filter);
  *   generate_light  light paths (light path index = sample index) from a light
  *                   chosen by power, by emission sampling. */
+#include "inline.h"
 #include "camera.h"
 #include "lights.h"
 #include "mis.h"
@@ -13,7 +14,7 @@
 #include "queues.h"
 #include "rng.h"
 
-static inline int take_free_slot(__global int* queueItems, __global int* queueCounters, const LaunchParams* p)
+INLINE int take_free_slot(__global int* queueItems, __global int* queueCounters, const LaunchParams* p)
 {
     int i = get_global_id(0);
     if (i == 0)

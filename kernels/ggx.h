@@ -5,9 +5,10 @@
 #ifndef WAVEVCM_GGX_H
 #define WAVEVCM_GGX_H
 
+#include "inline.h"
 #include "sampling.h"
 
-static inline float ggx_d(float3 h, float alpha)
+INLINE float ggx_d(float3 h, float alpha)
 {
     if (h.z <= 0.0f)
         return 0.0f;
@@ -17,7 +18,7 @@ static inline float ggx_d(float3 h, float alpha)
 }
 
 /* Smith Λ(w) = (−1 + sqrt(1 + α² tan²θ)) / 2. */
-static inline float ggx_lambda(float3 w, float alpha)
+INLINE float ggx_lambda(float3 w, float alpha)
 {
     float cos2 = w.z * w.z;
     if (cos2 <= 0.0f)
@@ -26,21 +27,21 @@ static inline float ggx_lambda(float3 w, float alpha)
     return 0.5f * (-1.0f + sqrt(1.0f + alpha * alpha * tan2));
 }
 
-static inline float ggx_g1(float3 w, float alpha) { return 1.0f / (1.0f + ggx_lambda(w, alpha)); }
+INLINE float ggx_g1(float3 w, float alpha) { return 1.0f / (1.0f + ggx_lambda(w, alpha)); }
 
-static inline float ggx_g(float3 wo, float3 wi, float alpha)
+INLINE float ggx_g(float3 wo, float3 wi, float alpha)
 {
     return 1.0f / (1.0f + ggx_lambda(wo, alpha) + ggx_lambda(wi, alpha));
 }
 
 /* Density of visible normals seen from wo (wo.z > 0):
  * D_wo(h) = G1(wo) · max(0, wo·h) · D(h) / wo.z. */
-static inline float ggx_visible_pdf(float3 wo, float3 h, float alpha)
+INLINE float ggx_visible_pdf(float3 wo, float3 h, float alpha)
 {
     return ggx_g1(wo, alpha) * fmax(0.0f, dot(wo, h)) * ggx_d(h, alpha) / wo.z;
 }
 
-static inline float3 ggx_sample_visible(float3 wo, float alpha, float2 u)
+INLINE float3 ggx_sample_visible(float3 wo, float alpha, float2 u)
 {
     /* Stretch to the hemisphere configuration, sample a projected disk,
      * unstretch. */

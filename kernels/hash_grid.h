@@ -7,21 +7,23 @@
 #ifndef WAVEVCM_HASH_GRID_H
 #define WAVEVCM_HASH_GRID_H
 
-static inline int3 grid_cell(float3 p, float cellSize)
+#include "inline.h"
+
+INLINE int3 grid_cell(float3 p, float cellSize)
 {
     float3 c = floor(p / cellSize);
     return (int3)((int)c.x, (int)c.y, (int)c.z);
 }
 
 /* Teschner et al.'s spatial hash, as in SmallVCM. */
-static inline uint grid_bucket(int3 cell, uint cellCount)
+INLINE uint grid_bucket(int3 cell, uint cellCount)
 {
     return (((uint)cell.x * 73856093u) ^ ((uint)cell.y * 19349663u) ^ ((uint)cell.z * 83492791u)) % cellCount;
 }
 
 /* The buckets of the 2×2×2 cells nearest x, with duplicates (two cells
  * hashing to one bucket) replaced by -1 so no vertex is visited twice. */
-static inline void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buckets[8])
+INLINE void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buckets[8])
 {
     float3 scaled = x / cellSize;
     float3 base = floor(scaled);
@@ -36,6 +38,23 @@ static inline void grid_query_buckets(float3 x, float cellSize, uint cellCount, 
                 b = -1;
         buckets[i] = b;
     }
+}
+
+/* Whether any grid point of the query's buckets lies within sqrt(radius2) of x. */
+INLINE bool grid_any_within(__global const int* bucketStarts, __global const float4* bucketPoints,
+                                   const int buckets[8], float3 x, float radius2)
+{
+    for (int k = 0; k < 8; ++k) {
+        if (buckets[k] < 0)
+            continue;
+        int end = bucketStarts[buckets[k] + 1];
+        for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
+            float3 d = bucketPoints[j].xyz - x;
+            if (dot(d, d) <= radius2)
+                return true;
+        }
+    }
+    return false;
 }
 
 #endif

@@ -6,6 +6,7 @@
 #ifndef WAVEVCM_INTERSECT_TRIANGLE_H
 #define WAVEVCM_INTERSECT_TRIANGLE_H
 
+#include "inline.h"
 #include "ray.h"
 
 /* No fused multiply-add contraction: the same ray and triangle then give the
@@ -24,9 +25,9 @@ typedef struct ShearedRay {
     float sx, sy, sz;
 } ShearedRay;
 
-static inline float component(float3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
+INLINE float component(float3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 
-static inline ShearedRay shear_ray(Ray ray)
+INLINE ShearedRay shear_ray(Ray ray)
 {
     ShearedRay s;
     float3 a = fabs(ray.direction);
@@ -46,7 +47,7 @@ static inline ShearedRay shear_ray(Ray ray)
 
 /* Returns true and sets *t, *b1, *b2 (barycentrics of v1 and v2) if the ray
  * hits the triangle with 0 < t < tMax. */
-static inline bool intersect_triangle(const ShearedRay* s, float3 v0, float3 v1, float3 v2, float tMax,
+INLINE bool intersect_triangle(const ShearedRay* s, float3 v0, float3 v1, float3 v2, float tMax,
                                float* t, float* b1, float* b2)
 {
     float3 A = v0 - s->origin, B = v1 - s->origin, C = v2 - s->origin;

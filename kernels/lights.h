@@ -6,6 +6,7 @@
 #ifndef WAVEVCM_LIGHTS_H
 #define WAVEVCM_LIGHTS_H
 
+#include "inline.h"
 #include "ray.h"
 #include "sampling.h"
 #include "shared_types.h"
@@ -27,7 +28,7 @@ typedef struct LightSample {
 } LightSample;
 
 /* The light whose CDF interval holds u (binary search). */
-static inline int select_light(__global const float* cdf, int count, float u)
+INLINE int select_light(__global const float* cdf, int count, float u)
 {
     int lo = 0, hi = count - 1;
     while (lo < hi) {
@@ -41,7 +42,7 @@ static inline int select_light(__global const float* cdf, int count, float u)
 }
 
 /* glTF spot cone: squared linear ramp between the outer and inner cone. */
-static inline float spot_falloff(const Light* l, float cosAngle)
+INLINE float spot_falloff(const Light* l, float cosAngle)
 {
     float t = clamp((cosAngle - l->cosOuterCone) / fmax(1e-4f, l->cosInnerCone - l->cosOuterCone), 0.0f, 1.0f);
     return t * t;
@@ -49,15 +50,15 @@ static inline float spot_falloff(const Light* l, float cosAngle)
 
 /* Density (solid angle at p) of sampling triangle light `l` towards a point
  * at distance `dist` whose normal makes cosine `cosLight` with the direction. */
-static inline float triangle_light_pdf(float pmf, float area, float dist, float cosLight)
+INLINE float triangle_light_pdf(float pmf, float area, float dist, float cosLight)
 {
     return cosLight > 0.0f ? pmf * dist * dist / (cosLight * area) : 0.0f;
 }
 
 /* Density of sampling direction `d` from the background light (uniform sphere). */
-static inline float background_light_pdf(float pmf) { return pmf * (0.25f * INV_PI_F); }
+INLINE float background_light_pdf(float pmf) { return pmf * (0.25f * INV_PI_F); }
 
-static inline bool sample_light(__global const Light* lights, __global const float* cdf,
+INLINE bool sample_light(__global const Light* lights, __global const float* cdf,
                          __global const float4* triVertices, __constant const SceneInfo* scene, float3 p, float3 u,
                          LightSample* s)
 {
@@ -163,7 +164,7 @@ typedef struct EmissionSample {
  * position, v the direction. Infinite lights (directional, background) start
  * their rays on a disk of the bounding sphere's radius, facing the scene,
  * just outside the sphere. */
-static inline bool sample_emission(__global const Light* lights, __global const float* cdf,
+INLINE bool sample_emission(__global const Light* lights, __global const float* cdf,
                             __global const float4* triVertices, __constant const SceneInfo* scene, float3 u,
                             float2 v, EmissionSample* e)
 {
@@ -252,7 +253,7 @@ static inline bool sample_emission(__global const Light* lights, __global const 
 /* For MIS at a camera path's hit on an emissive triangle (front side, cosine
  * cosLight): the densities of next-event estimation choosing that point
  * (area) and of the light emitting the ray. */
-static inline void triangle_hit_pdfs(float pmf, float area, float cosLight, float* directPdfA, float* emissionPdfW)
+INLINE void triangle_hit_pdfs(float pmf, float area, float cosLight, float* directPdfA, float* emissionPdfW)
 {
     *directPdfA = pmf / area;
     *emissionPdfW = *directPdfA * cosLight * INV_PI_F;
@@ -260,7 +261,7 @@ static inline void triangle_hit_pdfs(float pmf, float area, float cosLight, floa
 
 /* The same for a ray escaping to the background (solid angle for the direct
  * density; the emission density adds the disk the ray would start from). */
-static inline void background_hit_pdfs(float pmf, float sceneRadius, float* directPdfW, float* emissionPdfW)
+INLINE void background_hit_pdfs(float pmf, float sceneRadius, float* directPdfW, float* emissionPdfW)
 {
     *directPdfW = background_light_pdf(pmf);
     *emissionPdfW = *directPdfW / (PI_F * sceneRadius * sceneRadius);
@@ -273,7 +274,7 @@ static inline void background_hit_pdfs(float pmf, float sceneRadius, float* dire
  * sides are decided by rounding, and the shadow ray between them, parallel
  * to the wall within ~1e-7, slips through it. Such connections carry
  * cos θ ≈ 0 at both ends; dropping them costs nothing measurable. */
-static inline bool connection_resolved(float3 p, float3 pError, float3 np, float3 q, float3 qError, float3 nq)
+INLINE bool connection_resolved(float3 p, float3 pError, float3 np, float3 q, float3 qError, float3 nq)
 {
     float3 d = q - p, error = pError + qError;
     return fabs(dot(d, np)) > dot(fabs(np), error) && fabs(dot(d, nq)) > dot(fabs(nq), error);
@@ -282,7 +283,7 @@ static inline bool connection_resolved(float3 p, float3 pError, float3 np, float
 /* Ray from p towards a point `target` with error bound `targetError` on a
  * surface with normal targetNormal: both ends offset, the segment stopping
  * just short of the far end (pbrt-v4 SpawnRayTo). */
-static inline Ray ray_between(float3 p, float3 pError, float3 n, float3 target, float3 targetError, float3 targetNormal)
+INLINE Ray ray_between(float3 p, float3 pError, float3 n, float3 target, float3 targetError, float3 targetNormal)
 {
     Ray r;
     r.origin = offset_ray_origin(p, pError, n, target - p);
@@ -294,13 +295,13 @@ static inline Ray ray_between(float3 p, float3 pError, float3 n, float3 target, 
 
 /* connection_resolved for a light sample at a surface hit: only a triangle
  * light has a surface, and so a side, at the far end. */
-static inline bool light_sample_resolved(float3 p, float3 pError, float3 ng, const LightSample* ls)
+INLINE bool light_sample_resolved(float3 p, float3 pError, float3 ng, const LightSample* ls)
 {
     return ls->type != LIGHT_TRIANGLE || connection_resolved(p, pError, ng, ls->lightPoint, ls->lightError, ls->lightNormal);
 }
 
 /* The shadow ray of a light sample taken at a surface hit. */
-static inline Ray shadow_ray_to_light(float3 p, float3 pError, float3 ng, const LightSample* ls)
+INLINE Ray shadow_ray_to_light(float3 p, float3 pError, float3 ng, const LightSample* ls)
 {
     if (isinf(ls->distance))
         return spawn_ray(p, pError, ng, ls->direction);

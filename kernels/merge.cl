@@ -19,6 +19,19 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot < 0)
         return;
+    /* Most camera vertices have no light vertex within r: find that out from
+     * the point and the grid's 16-byte points before building the camera
+     * vertex (normals, frame, BSDF). */
+    int tri = hitTriangle[slot];
+    if (!material_has_nondelta(&materials[triMaterials[tri]]))
+        return;
+    float3 pError;
+    float3 p = surface_hit_point(triVertices, tri, hitBary[slot], &pError);
+    float radius2 = params.mergeRadius * params.mergeRadius;
+    int buckets[8];
+    grid_query_buckets(p, 2.0f * params.mergeRadius, params.cellCount, buckets);
+    if (!grid_any_within(bucketStarts, bucketPoints, buckets, p, radius2))
+        return;
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;
@@ -28,10 +41,7 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     PathMis mis = cv.mis;
     float contCamera = cv.continuation;
     int depth = hit_depth(pathDepth, slot);
-    float radius2 = params.mergeRadius * params.mergeRadius;
 
-    int buckets[8];
-    grid_query_buckets(hit.p, 2.0f * params.mergeRadius, params.cellCount, buckets);
     float3 sum = (float3)(0.0f);
     for (int k = 0; k < 8; ++k) {
         if (buckets[k] < 0)

@@ -7,24 +7,26 @@
 #ifndef WAVEVCM_MIS_H
 #define WAVEVCM_MIS_H
 
+#include "inline.h"
+
 typedef struct PathMis {
     float dVCM, dVC, dVM;
 } PathMis;
 
-static inline PathMis load_mis(__global const float4* m, int slot)
+INLINE PathMis load_mis(__global const float4* m, int slot)
 {
     float4 v = m[slot];
     PathMis r = {v.x, v.y, v.z};
     return r;
 }
 
-static inline void store_mis(__global float4* m, int slot, PathMis v) { m[slot] = (float4)(v.dVCM, v.dVC, v.dVM, 0.0f); }
+INLINE void store_mis(__global float4* m, int slot, PathMis v) { m[slot] = (float4)(v.dVCM, v.dVC, v.dVM, 0.0f); }
 
 /* Light sub-path start (eqs. 31-33; delta lights 48-50): directPdf is the
  * density of next-event estimation choosing this point (area) or direction
  * (infinite lights), emissionPdfW that of emitting this ray; cosine 1 for
  * lights without a surface. */
-static inline PathMis mis_light_start(float directPdf, float emissionPdfW, float cosAtLight, bool finite, bool delta,
+INLINE PathMis mis_light_start(float directPdf, float emissionPdfW, float cosAtLight, bool finite, bool delta,
                                float vcWeightFactor)
 {
     PathMis m;
@@ -36,7 +38,7 @@ static inline PathMis mis_light_start(float directPdf, float emissionPdfW, float
 
 /* Camera sub-path start: light tracing (t = 1) has lightPaths samples per
  * pixel; cameraPdfW is the camera's density of the primary direction. */
-static inline PathMis mis_camera_start(float lightPaths, float cameraPdfW)
+INLINE PathMis mis_camera_start(float lightPaths, float cameraPdfW)
 {
     PathMis m = {lightPaths / cameraPdfW, 0.0f, 0.0f};
     return m;
@@ -46,7 +48,7 @@ static inline PathMis mis_camera_start(float lightPaths, float cameraPdfW)
  * direction (shading normal): convert the pdfs of the last segment to area
  * measure. The first segment of a path from an infinite light has no
  * distance (§5.1). */
-static inline void mis_at_hit(PathMis* m, float dist, float cosHit, bool convertDistance)
+INLINE void mis_at_hit(PathMis* m, float dist, float cosHit, bool convertDistance)
 {
     if (convertDistance)
         m->dVCM *= dist * dist;
@@ -59,7 +61,7 @@ static inline void mis_at_hit(PathMis* m, float dist, float cosHit, bool convert
 /* After sampling a new direction with solid-angle pdf pdfW (continuation
  * probability included), reverse pdf revPdfW, and |cos| cosOut at this
  * vertex (eqs. 34-36; specular vertices 53-55). */
-static inline void mis_after_scatter(PathMis* m, bool delta, float cosOut, float pdfW, float revPdfW, float vmWeightFactor,
+INLINE void mis_after_scatter(PathMis* m, bool delta, float cosOut, float pdfW, float revPdfW, float vmWeightFactor,
                               float vcWeightFactor)
 {
     if (delta) {
@@ -86,7 +88,7 @@ static inline void mis_after_scatter(PathMis* m, bool delta, float cosOut, float
  * next-event density (area, or solid angle for the background) is
  * directPdf and whose emission density for the ray is emissionPdfW
  * (eqs. 42-43). */
-static inline float mis_weight_emission_hit(PathMis camera, float directPdf, float emissionPdfW)
+INLINE float mis_weight_emission_hit(PathMis camera, float directPdf, float emissionPdfW)
 {
     return 1.0f / (1.0f + directPdf * camera.dVCM + emissionPdfW * camera.dVC);
 }
@@ -95,7 +97,7 @@ static inline float mis_weight_emission_hit(PathMis camera, float directPdf, flo
  * the BSDF sampling the light's direction (0 for delta lights), bsdfRevPdfW
  * that of the reverse direction; directPdfW, emissionPdfW and cosAtLight as
  * in LightSample (eqs. 44-45). */
-static inline float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdfRevPdfW, float directPdfW,
+INLINE float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdfRevPdfW, float directPdfW,
                             float emissionPdfW, float cosToLight, float cosAtLight, float vmWeightFactor)
 {
     float wLight = bsdfDirPdfW / directPdfW;
@@ -108,7 +110,7 @@ static inline float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdf
  * density of sampling the vertex (per unit area), lightPaths the light paths
  * per iteration, bsdfRevPdfW the light vertex's density of sampling its
  * incoming direction from the camera's (eqs. 46-47). */
-static inline float mis_weight_light_to_camera(PathMis light, float cameraPdfA, float lightPaths, float bsdfRevPdfW,
+INLINE float mis_weight_light_to_camera(PathMis light, float cameraPdfA, float lightPaths, float bsdfRevPdfW,
                                         float vmWeightFactor)
 {
     float wLight = cameraPdfA / lightPaths * (vmWeightFactor + light.dVCM + light.dVC * bsdfRevPdfW);
@@ -119,7 +121,7 @@ static inline float mis_weight_light_to_camera(PathMis light, float cameraPdfA, 
  * vertex's BSDF density of the light vertex (area), lightDirPdfA the light
  * vertex's of the camera vertex; the reverse densities are solid angle
  * (eqs. 40-41, 37). */
-static inline float mis_weight_connection(PathMis light, PathMis camera, float cameraDirPdfA, float lightDirPdfA,
+INLINE float mis_weight_connection(PathMis light, PathMis camera, float cameraDirPdfA, float lightDirPdfA,
                                    float lightRevPdfW, float cameraRevPdfW, float vmWeightFactor)
 {
     float wLight = cameraDirPdfA * (vmWeightFactor + light.dVCM + light.dVC * lightRevPdfW);
@@ -130,7 +132,7 @@ static inline float mis_weight_connection(PathMis light, PathMis camera, float c
 /* A camera vertex merged with a light vertex: cameraDirPdfW is the camera
  * BSDF's density of the light vertex's incoming direction, cameraRevPdfW
  * the reverse (eqs. 37-39). */
-static inline float mis_weight_merge(PathMis light, PathMis camera, float cameraDirPdfW, float cameraRevPdfW,
+INLINE float mis_weight_merge(PathMis light, PathMis camera, float cameraDirPdfW, float cameraRevPdfW,
                               float vcWeightFactor)
 {
     float wLight = light.dVCM * vcWeightFactor + light.dVM * cameraDirPdfW;

@@ -7,10 +7,11 @@
 #ifndef WAVEVCM_NAN_POLICY_H
 #define WAVEVCM_NAN_POLICY_H
 
+#include "inline.h"
 #include "queue_ids.h"
 
 /* True if every component of v is finite; counts v otherwise. */
-static inline bool accept_finite(float3 v, __global int* queueCounters)
+INLINE bool accept_finite(float3 v, __global int* queueCounters)
 {
     if (all(isfinite(v)))
         return true;
@@ -19,7 +20,7 @@ static inline bool accept_finite(float3 v, __global int* queueCounters)
 }
 
 /* pixels[pixel] += L, if L is nonzero and accepted. */
-static inline void add_radiance(__global float4* pixels, int pixel, float3 L, __global int* queueCounters)
+INLINE void add_radiance(__global float4* pixels, int pixel, float3 L, __global int* queueCounters)
 {
     if (any(L != 0.0f) && accept_finite(L, queueCounters))
         pixels[pixel] += (float4)(L, 0.0f);

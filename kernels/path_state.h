@@ -17,6 +17,7 @@
 #ifndef WAVEVCM_PATH_STATE_H
 #define WAVEVCM_PATH_STATE_H
 
+#include "inline.h"
 #include "kernel_interface.h"
 #include "ray.h"
 
@@ -25,12 +26,12 @@
 #define PATH_SPECULAR 2     /* a camera path with only delta scattering so far */
 
 /* Depth of the vertex the current ray of `slot` finds (or of the segment it escapes along). */
-static inline int hit_depth(__global const int* pathDepth, int slot) { return pathDepth[slot] + 1; }
+INLINE int hit_depth(__global const int* pathDepth, int slot) { return pathDepth[slot] + 1; }
 
 /* Whether a full path of `segments` segments is within the limit. */
-static inline bool path_fits(int segments, int maxPathLength) { return segments <= maxPathLength; }
+INLINE bool path_fits(int segments, int maxPathLength) { return segments <= maxPathLength; }
 
-static inline Ray load_ray(__global const float4* origins, __global const float4* directions, int slot)
+INLINE Ray load_ray(__global const float4* origins, __global const float4* directions, int slot)
 {
     float4 o = origins[slot], d = directions[slot];
     Ray r;
@@ -40,7 +41,7 @@ static inline Ray load_ray(__global const float4* origins, __global const float4
     return r;
 }
 
-static inline void store_ray(__global float4* origins, __global float4* directions, int slot, Ray r)
+INLINE void store_ray(__global float4* origins, __global float4* directions, int slot, Ray r)
 {
     origins[slot] = (float4)(r.origin, 0.0f);
     directions[slot] = (float4)(r.direction, r.tMax);

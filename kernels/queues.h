@@ -4,12 +4,8 @@
 #ifndef WAVEVCM_QUEUES_H
 #define WAVEVCM_QUEUES_H
 
+#include "inline.h"
 #include "queue_ids.h"
-
-/* Helpers with barriers are always inlined: with a static helper that LLVM
- * decides to inline late, PoCL 3.1 (LLVM 15) crashes building the
- * work-group function. */
-#define BARRIER_HELPER static inline __attribute__((always_inline))
 
 /* No counter (a lane of group_allocate4 that nobody wants). */
 #define NO_COUNTER (-1)
@@ -23,7 +19,7 @@
  * three barriers, and on PoCL each barrier splits the work-group loop and
  * spills the live values. Every work-item of the group must call it, once
  * per kernel; `scratch` is __local int[8]. */
-BARRIER_HELPER int4 group_allocate4(__global int* counters, int4 counter, int4 wants, __local int* scratch)
+INLINE int4 group_allocate4(__global int* counters, int4 counter, int4 wants, __local int* scratch)
 {
     if (get_local_id(0) == 0)
         vstore4((int4)(0), 0, scratch);
@@ -49,7 +45,7 @@ BARRIER_HELPER int4 group_allocate4(__global int* counters, int4 counter, int4 w
 
 /* Appends `slot` to each queue of `queues` whose lane of `push` is set
  * (group_allocate4's rules apply; unused lanes: NO_COUNTER, push 0). */
-BARRIER_HELPER void queue_push4(__global int* items, __global int* counters, int capacity, int4 queues, int4 push,
+INLINE void queue_push4(__global int* items, __global int* counters, int capacity, int4 queues, int4 push,
                                 int slot, __local int* scratch)
 {
     int4 at = group_allocate4(counters, queues, push, scratch);
@@ -64,7 +60,7 @@ BARRIER_HELPER void queue_push4(__global int* items, __global int* counters, int
 }
 
 /* The slot of the i-th entry of `queue`, or -1 past its end. */
-static inline int queue_item(__global const int* items, __global const int* counters, int capacity, int queue, int i)
+INLINE int queue_item(__global const int* items, __global const int* counters, int capacity, int queue, int i)
 {
     return i < counters[COUNTER_INDEX(queue)] ? items[queue * capacity + i] : -1;
 }

@@ -3,6 +3,8 @@
 #ifndef WAVEVCM_RAY_H
 #define WAVEVCM_RAY_H
 
+#include "inline.h"
+
 typedef struct Ray {
     float3 origin;
     float3 direction; /* not necessarily unit length; t is in units of it */
@@ -17,14 +19,14 @@ typedef struct Ray {
  * conservative bound on its absolute error per axis,
  * γ(7)·(|b0·v0| + |b1·v1| + |b2·v2|) (pbrt-v4, Triangle::InteractionFromIntersection),
  * which covers the rounding of the barycentrics from the watertight test. */
-static inline float3 surface_point(float3 v0, float3 v1, float3 v2, float b1, float b2, float3* error)
+INLINE float3 surface_point(float3 v0, float3 v1, float3 v2, float b1, float b2, float3* error)
 {
     float b0 = 1.0f - b1 - b2;
     *error = GAMMA(7) * (fabs(b0 * v0) + fabs(b1 * v1) + fabs(b2 * v2));
     return b0 * v0 + b1 * v1 + b2 * v2;
 }
 
-static inline float next_float_up(float v)
+INLINE float next_float_up(float v)
 {
     if (isinf(v) && v > 0.0f) return v;
     if (v == -0.0f) v = 0.0f;
@@ -32,7 +34,7 @@ static inline float next_float_up(float v)
     return as_float(v >= 0.0f ? bits + 1 : bits - 1);
 }
 
-static inline float next_float_down(float v)
+INLINE float next_float_down(float v)
 {
     if (isinf(v) && v < 0.0f) return v;
     if (v == 0.0f) v = -0.0f;
@@ -44,7 +46,7 @@ static inline float next_float_down(float v)
  * the projection of the error box onto n, then round away from p: the origin
  * is then provably on w's side of the true surface, at any scene scale and
  * position (pbrt-v4 OffsetRayOrigin). */
-static inline float3 offset_ray_origin(float3 p, float3 error, float3 n, float3 w)
+INLINE float3 offset_ray_origin(float3 p, float3 error, float3 n, float3 w)
 {
     float d = dot(fabs(n), error);
     float3 offset = d * n;
@@ -59,7 +61,7 @@ static inline float3 offset_ray_origin(float3 p, float3 error, float3 n, float3 
 
 /* A ray leaving surface point p (error bound `error`, geometric normal ng)
  * in direction d. */
-static inline Ray spawn_ray(float3 p, float3 error, float3 ng, float3 d)
+INLINE Ray spawn_ray(float3 p, float3 error, float3 ng, float3 d)
 {
     Ray r;
     r.origin = offset_ray_origin(p, error, ng, d);

@@ -5,15 +5,17 @@
 #ifndef WAVEVCM_RNG_H
 #define WAVEVCM_RNG_H
 
+#include "inline.h"
+
 /* One Philox round: two 32x32->64 multiplies, mixed with the key. */
-static inline uint4 philox_round(uint4 c, uint2 k)
+INLINE uint4 philox_round(uint4 c, uint2 k)
 {
     const uint M0 = 0xD2511F53u, M1 = 0xCD9E8D57u;
     return (uint4)(mul_hi(M1, c.z) ^ c.y ^ k.x, M1 * c.z,
                    mul_hi(M0, c.x) ^ c.w ^ k.y, M0 * c.x);
 }
 
-static inline uint4 philox4x32_10(uint4 counter, uint2 key)
+INLINE uint4 philox4x32_10(uint4 counter, uint2 key)
 {
     const uint2 W = (uint2)(0x9E3779B9u, 0xBB67AE85u); /* Weyl key increments */
     for (int i = 0; i < 9; ++i) {
@@ -24,11 +26,11 @@ static inline uint4 philox4x32_10(uint4 counter, uint2 key)
 }
 
 /* 24 high bits to a float in [0, 1): exact, never rounds up to 1. */
-static inline float uint_to_unit_float(uint x) { return (float)(x >> 8) * 0x1.0p-24f; }
+INLINE float uint_to_unit_float(uint x) { return (float)(x >> 8) * 0x1.0p-24f; }
 
 /* Four uniform numbers for dimensions [4·block, 4·block + 4) of one sample at
  * one bounce. `sample` is the global sample index within the iteration. */
-static inline float4 rng_uniform4(uint seed, uint iteration, uint sample, uint bounce, uint block)
+INLINE float4 rng_uniform4(uint seed, uint iteration, uint sample, uint bounce, uint block)
 {
     uint4 bits = philox4x32_10((uint4)(sample, iteration, bounce, block), (uint2)(seed, 0x5EEDu));
     return (float4)(uint_to_unit_float(bits.x), uint_to_unit_float(bits.y),

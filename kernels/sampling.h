@@ -2,6 +2,8 @@
 #ifndef WAVEVCM_SAMPLING_H
 #define WAVEVCM_SAMPLING_H
 
+#include "inline.h"
+
 #define PI_F 3.14159265358979323846f
 #define INV_PI_F 0.31830988618379067154f
 
@@ -11,7 +13,7 @@ typedef struct Frame {
     float3 s, t, n;
 } Frame;
 
-static inline Frame frame_from_normal(float3 n)
+INLINE Frame frame_from_normal(float3 n)
 {
     float sign = n.z >= 0.0f ? 1.0f : -1.0f;
     float a = -1.0f / (sign + n.z);
@@ -23,11 +25,11 @@ static inline Frame frame_from_normal(float3 n)
     return f;
 }
 
-static inline float3 to_local(const Frame* f, float3 v) { return (float3)(dot(v, f->s), dot(v, f->t), dot(v, f->n)); }
-static inline float3 to_world(const Frame* f, float3 v) { return v.x * f->s + v.y * f->t + v.z * f->n; }
+INLINE float3 to_local(const Frame* f, float3 v) { return (float3)(dot(v, f->s), dot(v, f->t), dot(v, f->n)); }
+INLINE float3 to_world(const Frame* f, float3 v) { return v.x * f->s + v.y * f->t + v.z * f->n; }
 
 /* Concentric square-to-disk map (Shirley & Chiu 1997): low distortion. */
-static inline float2 sample_disk(float2 u)
+INLINE float2 sample_disk(float2 u)
 {
     float2 o = 2.0f * u - 1.0f;
     if (o.x == 0.0f && o.y == 0.0f)
@@ -44,14 +46,14 @@ static inline float2 sample_disk(float2 u)
 }
 
 /* Cosine-weighted hemisphere around +z; pdf = cos θ / π. */
-static inline float3 sample_cosine_hemisphere(float2 u)
+INLINE float3 sample_cosine_hemisphere(float2 u)
 {
     float2 d = sample_disk(u);
     return (float3)(d.x, d.y, sqrt(fmax(0.0f, 1.0f - d.x * d.x - d.y * d.y)));
 }
 
 /* Uniform sphere; pdf = 1 / 4π. */
-static inline float3 sample_uniform_sphere(float2 u)
+INLINE float3 sample_uniform_sphere(float2 u)
 {
     float z = 1.0f - 2.0f * u.x;
     float r = sqrt(fmax(0.0f, 1.0f - z * z));
@@ -60,7 +62,7 @@ static inline float3 sample_uniform_sphere(float2 u)
 }
 
 /* Uniform cone of directions around +z with cos θ ≥ cosMax; pdf = 1 / (2π(1 − cosMax)). */
-static inline float3 sample_uniform_cone(float2 u, float cosMax)
+INLINE float3 sample_uniform_cone(float2 u, float cosMax)
 {
     float z = 1.0f - u.x * (1.0f - cosMax);
     float r = sqrt(fmax(0.0f, 1.0f - z * z));
@@ -70,13 +72,13 @@ static inline float3 sample_uniform_cone(float2 u, float cosMax)
 
 /* Uniform point on a triangle as barycentrics (b1, b2) (Heitz's "low
  * distortion" map would be an option; this square-root map is standard). */
-static inline float2 sample_triangle(float2 u)
+INLINE float2 sample_triangle(float2 u)
 {
     float su = sqrt(u.x);
     return (float2)(su * (1.0f - u.y), su * u.y);
 }
 
-static inline float luminance(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-static inline float max_component(float3 c) { return fmax(c.x, fmax(c.y, c.z)); }
+INLINE float luminance(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+INLINE float max_component(float3 c) { return fmax(c.x, fmax(c.y, c.z)); }
 
 #endif

@@ -10,6 +10,7 @@
  * light sampling; delta lights and delta lobes take weight 1.
  * Path length as in path_state.h: a vertex of depth d continues (and
  * samples a light) only if a path of d + 1 segments fits. */
+#include "inline.h"
 #include "bsdf.h"
 #include "continue_path.h"
 #include "lights.h"
@@ -18,11 +19,11 @@
 #include "rng.h"
 #include "surface.h"
 
-static inline float power_heuristic(float a, float b) { return a * a / (a * a + b * b); }
+INLINE float power_heuristic(float a, float b) { return a * a / (a * a + b * b); }
 
 /* Shades the hit of path `slot`; sets *alive if the path continues (its next
  * ray stored) and *shadowRay if a shadow ray was stored for `connect`. */
-static inline void shade_hit(const RenderBuffers* b, const LaunchParams* params, int slot, bool* aliveOut,
+INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int slot, bool* aliveOut,
                              bool* shadowOut)
 {
     int tri = b->hitTriangle[slot];

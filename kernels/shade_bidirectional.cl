@@ -12,6 +12,7 @@
  *   4. sample the BSDF to continue, with Russian roulette by the material's
  *      continuation probability (part of every pdf in the weights); ppm ends
  *      the path at its first non-delta vertex, where it merged. */
+#include "inline.h"
 #include "bsdf.h"
 #include "continue_path.h"
 #include "lights.h"
@@ -27,7 +28,7 @@ typedef struct CameraHitResult {
     int alive, shadowRay;
 } CameraHitResult;
 
-static inline CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchParams* params, int slot)
+INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchParams* params, int slot)
 {
     CameraHitResult r = {0, 0};
     int tri = b->hitTriangle[slot];

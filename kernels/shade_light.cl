@@ -12,6 +12,7 @@
  * a vertex of depth d connects to the camera if d + 1 segments fit, and is
  * only worth continuing from if a path through the next vertex (d + 2
  * segments, the camera connection included) fits. */
+#include "inline.h"
 #include "bsdf.h"
 #include "continue_path.h"
 #include "camera.h"
@@ -29,7 +30,7 @@ typedef struct LightHitResult {
     LightVertex vertex;
 } LightHitResult;
 
-static inline LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams* params, int slot)
+INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams* params, int slot)
 {
     LightHitResult r;
     r.alive = r.shadowRay = r.storeVertex = 0;

@@ -2,6 +2,7 @@
  * bsdf_sample and bsdf_eval (kernels/bsdf.h) for host-chosen materials,
  * local directions and random numbers. A setup is (material index,
  * frontSide, adjoint, unused); every work item has its own setup and wo. */
+#include "inline.h"
 #include "bsdf.h"
 
 /* One bsdf_sample per work item with the host's random numbers u[i].xyz,
@@ -56,7 +57,7 @@ __kernel void eval_bsdf(__global const Material* materials, __global const int4*
 /* The forward pdf over one bin [θ0, θ0 + dθ] × [φ0, φ0 + dφ]: the midpoint
  * rule with sub × sub points, dω = sin θ dθ dφ. Row sums keep the float
  * accumulation short. */
-static inline float bin_integral(const Bsdf* b, float3 wo, bool adjoint, float theta0, float dTheta, float phi0,
+INLINE float bin_integral(const Bsdf* b, float3 wo, bool adjoint, float theta0, float dTheta, float phi0,
                           float dPhi, int sub)
 {
     float sum = 0.0f;

@@ -2,6 +2,7 @@
  * camera) over Lambertian vertices, the VCM weights of every technique that
  * samples it, computed with the production MIS quantities and weights
  * (mis.h) from the production BSDF's densities (bsdf.h). Their sum must be 1. */
+#include "inline.h"
 #include "bsdf.h"
 #include "camera.h"
 #include "mis.h"
@@ -11,7 +12,7 @@ typedef struct Densities {
 } Densities;
 
 /* The BSDF at a vertex with normal n: densities of `out` given `fixed` and back. */
-static inline Densities densities(__global const Material* m, float3 n, float3 fixed, float3 out)
+INLINE Densities densities(__global const Material* m, float3 n, float3 fixed, float3 out)
 {
     Frame f = frame_from_normal(n);
     float3 a = to_local(&f, fixed), b = to_local(&f, out);
@@ -22,8 +23,8 @@ static inline Densities densities(__global const Material* m, float3 n, float3 f
     return d;
 }
 
-static inline float3 unit(float3 from, float3 to) { return normalize(to - from); }
-static inline float dist(float3 a, float3 b) { return length(b - a); }
+INLINE float3 unit(float3 from, float3 to) { return normalize(to - from); }
+INLINE float dist(float3 a, float3 b) { return length(b - a); }
 
 #define MAX_VERTICES 8
 
