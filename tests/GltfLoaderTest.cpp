@@ -882,11 +882,124 @@ TEST_F(GltfLoader, InfinitePositionThrows)
     expectLoadError(b.writeGltf(dir_, "scene"), "NaN or Inf");
 }
 
-TEST_F(GltfLoader, LinesPrimitiveThrows)
+TEST_F(GltfLoader, LinesOnlySceneThrowsNamingTheSkippedLines)
 {
     GltfBuilder b = oneTriangle();
     b.j["meshes"][0]["primitives"][0]["mode"] = 1;
-    expectLoadError(b.writeGltf(dir_, "scene"), "LINES");
+    expectLoadError(b.writeGltf(dir_, "scene"), "no triangles (skipped: LINES primitives)");
+}
+
+TEST_F(GltfLoader, PointsAndLinesBesideTrianglesAreSkippedWithAWarning)
+{
+    GltfBuilder b = oneTriangle();
+    json points = b.j["meshes"][0]["primitives"][0];
+    points["mode"] = 0;
+    json lines = points;
+    lines["mode"] = 3;
+    b.j["meshes"][0]["primitives"].push_back(points);
+    b.j["meshes"][0]["primitives"].push_back(lines);
+    Scene s = load(b);
+    EXPECT_EQ(s.triangleCount(), 1u);
+    EXPECT_TRUE(anyWarningContains(s, "POINTS primitives are skipped"));
+    EXPECT_TRUE(anyWarningContains(s, "LINE_STRIP primitives are skipped"));
+}
+
+TEST_F(GltfLoader, UnknownPrimitiveModeThrows)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["meshes"][0]["primitives"][0]["mode"] = 7;
+    expectLoadError(b.writeGltf(dir_, "scene"), "unknown primitive mode 7");
+}
+
+// glTF's fan rule: triangle i is (v_{i+1}, v_{i+2}, v_0); counter-clockwise
+// vertices around v_0 give triangles facing +z.
+TEST_F(GltfLoader, TriangleFanIsTriangulatedWithGltfWinding)
+{
+    GltfBuilder b;
+    json p = primitive(b.addVec3s({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}}));
+    p["mode"] = 6;
+    b.addNode({{"mesh", b.addMesh({p})}});
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 3u);
+    for (size_t t = 0; t < s.triangleCount(); ++t) EXPECT_TRUE(near(triangleNormal(s, t), {0, 0, 1})) << t;
+}
+
+// Vertices alternating between y = 1 and y = 0 along x.
+std::vector<Vec3> zigzag(int n)
+{
+    std::vector<Vec3> v;
+    for (int i = 0; i < n; ++i) v.push_back({float(i / 2) + (i % 2) * 0.5f, float(1 - i % 2), 0});
+    return v;
+}
+
+TEST_F(GltfLoader, TriangleStripWithARepeatedIndexDropsTheDegenerateTriangles)
+{
+    GltfBuilder b;
+    json p = primitive(b.addVec3s(zigzag(4)), -1, b.addIndices<uint16_t>({0, 1, 2, 2, 3}));
+    p["mode"] = 5;
+    b.addNode({{"mesh", b.addMesh({p})}});
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 1u) << "(0,1,2) kept, (1,2,2) and (2,2,3) dropped";
+    EXPECT_TRUE(near(triangleNormal(s, 0), {0, 0, 1}));
+}
+
+TEST_F(GltfLoader, LongTriangleStripKeepsOneWindingThroughout)
+{
+    // Strip triangle i is (v_i, v_{i+1+i%2}, v_{i+2-i%2}): with the zigzag
+    // starting at y = 1, all face +z. Ignoring the alternation would flip
+    // every other one.
+    GltfBuilder b;
+    json p = primitive(b.addVec3s(zigzag(10)));
+    p["mode"] = 5;
+    b.addNode({{"mesh", b.addMesh({p})}});
+    Scene s = load(b);
+    ASSERT_EQ(s.triangleCount(), 8u);
+    for (size_t t = 0; t < s.triangleCount(); ++t) EXPECT_TRUE(near(triangleNormal(s, t), {0, 0, 1})) << t;
+}
+
+TEST_F(GltfLoader, Gltf1IsRefusedByName)
+{
+    fs::path path = dir_ / "old.gltf";
+    std::ofstream(path) << R"({"asset": {"version": "1.0"}, "scene": "defaultScene",
+        "scenes": {"defaultScene": {"nodes": ["node"]}}, "nodes": {"node": {"meshes": ["mesh"]}}})";
+    expectLoadError(path.string(), "glTF 1.0 is not supported");
+    // 1.0 files without asset.version show themselves by their string ids.
+    std::ofstream(path) << R"({"scene": "defaultScene", "scenes": {"defaultScene": {"nodes": []}}})";
+    expectLoadError(path.string(), "glTF 1.0 is not supported");
+    // A binary glTF 1.0 (KHR_binary_glTF): header version 1.
+    fs::path glb = dir_ / "old.glb";
+    const unsigned char header[20] = {'g', 'l', 'T', 'F', 1, 0, 0, 0, 20, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    writeFile(glb, header, sizeof header);
+    expectLoadError(glb.string(), "glTF 1 is not supported");
+}
+
+TEST_F(GltfLoader, EveryPerspectiveCameraIsKeptInNodeOrder)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["cameras"] = json::array({perspective(0.8), perspective(0.5)});
+    b.addNode({{"camera", 1}, {"translation", {1, 0, 0}}});
+    b.addNode({{"camera", 0}, {"translation", {2, 0, 0}}});
+    Scene s = load(b);
+    ASSERT_EQ(s.cameras.size(), 2u);
+    EXPECT_TRUE(near(s.cameras[0].position, {1, 0, 0}));
+    EXPECT_TRUE(near(s.cameras[1].position, {2, 0, 0}));
+    EXPECT_FLOAT_EQ(s.cameras[1].yfov, 0.8f);
+    EXPECT_TRUE(near(s.camera.position, {1, 0, 0})) << "the first is the default";
+}
+
+TEST_F(GltfLoader, HasLightSeesEachKindOfLight)
+{
+    GltfBuilder dark = oneTriangle();
+    EXPECT_FALSE(load(dark, "dark").hasLight());
+    GltfBuilder emissive = oneTriangle();
+    emissive.j["materials"][0]["emissiveFactor"] = {1, 1, 1};
+    EXPECT_TRUE(load(emissive, "emissive").hasLight());
+    GltfBuilder unusedEmissive = oneTriangle(); // an emissive material no triangle uses
+    unusedEmissive.addMaterial({{"emissiveFactor", {1, 1, 1}}});
+    EXPECT_FALSE(load(unusedEmissive, "unused").hasLight());
+    GltfBuilder background = oneTriangle();
+    background.j["scenes"][0]["extras"]["background"] = {0, 0, 0.1};
+    EXPECT_TRUE(load(background, "background").hasLight());
 }
 
 TEST_F(GltfLoader, RequiredUnsupportedExtensionThrows)

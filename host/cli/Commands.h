@@ -21,6 +21,8 @@ struct RenderOptions {
     std::string aov; // "techniques" or empty
     std::string reference, errorLog; // --reference REF --error-log LOG.csv
     std::string statsFile;
+    int camera = -1;        // --camera N: the file's N-th perspective camera; -1 = the first
+    std::string background; // --background R,G,B (radiance); empty = the scene's
     bool quiet = false;
     bool profile = false;
 };

@@ -192,6 +192,43 @@ static void resolution(const RenderOptions& o, const Scene& scene, int* width, i
     *width = o.width > 0 ? o.width : std::max(1, int(std::lround(*height * aspect)));
 }
 
+static Vec3 parseColor(const std::string& option, const std::string& text)
+{
+    Vec3 c;
+    char comma1 = 0, comma2 = 0, extra = 0;
+    if (std::sscanf(text.c_str(), " %f %c %f %c %f %c", &c.x, &comma1, &c.y, &comma2, &c.z, &extra) != 5 ||
+        comma1 != ',' || comma2 != ',' || !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z))
+        throw Error(option + " " + text + ": expected R,G,B, three finite numbers >= 0");
+    return c;
+}
+
+// --camera and --background, and a default light: a scene with none (most
+// exported models carry no light) would render black without a word, so it
+// gets a uniform white background of radiance 1, what glTF viewers show.
+static void chooseCameraAndLight(const RenderOptions& o, const std::string& scenePath, Scene& scene)
+{
+    if (o.camera >= 0) {
+        if (size_t(o.camera) >= scene.cameras.size())
+            throw Error("--camera " + std::to_string(o.camera) + ": " + scenePath + " has " +
+                        std::to_string(scene.cameras.size()) + " perspective camera" +
+                        (scene.cameras.size() == 1 ? "" : "s") + " (numbered from 0)");
+        scene.camera = scene.cameras[size_t(o.camera)];
+    }
+    if (!o.background.empty()) scene.background = parseColor("--background", o.background);
+    if (scene.hasLight()) return;
+    if (!o.background.empty()) {
+        std::fprintf(stderr, "wavevcm: warning: %s has no light and --background is 0: the image is black\n",
+                     scenePath.c_str());
+        return;
+    }
+    std::fprintf(stderr,
+                 "wavevcm: warning: %s has no light (no KHR_lights_punctual light, no emissive material, no "
+                 "background); rendering it under a uniform white background of radiance 1, as glTF viewers "
+                 "do. Add lights to the file or set --background R,G,B.\n",
+                 scenePath.c_str());
+    scene.background = Vec3(1, 1, 1);
+}
+
 int runRender(const RenderOptions& o)
 {
     validate(o);
@@ -210,6 +247,7 @@ int runRender(const RenderOptions& o)
     std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
     Scene scene = loadGltf(scenePath);
     for (const std::string& w : scene.warnings) std::fprintf(stderr, "wavevcm: warning: %s\n", w.c_str());
+    chooseCameraAndLight(o, scenePath, scene);
     resolution(o, scene, &settings.width, &settings.height);
     std::unique_ptr<ErrorLog> errorLog;
     if (!o.errorLog.empty()) {

@@ -34,6 +34,10 @@ int main(int argc, char** argv)
     render->add_option("--radius-alpha", r.radiusAlpha, "radius reduction: r_i = r_1 i^((alpha-1)/2)")
         ->capture_default_str();
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
+    render->add_option("--camera", r.camera, "render from the file's N-th perspective camera (0 = the first)")
+        ->check(CLI::NonNegativeNumber);
+    render->add_option("--background", r.background,
+                       "uniform background radiance R,G,B (replaces the scene's; 0,0,0 for none)");
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
     render->add_flag("--profile", r.profile, "print the device time spent in each kernel");
     render->add_option("--reference", r.reference, "reference image for --error-log (same resolution)");

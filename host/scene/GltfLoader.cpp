@@ -2,6 +2,7 @@
 
 #include "../Error.h"
 
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -93,6 +95,7 @@ public:
 private:
     [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
     void warn(const std::string& what) { scene_.warnings.push_back(path_ + ": " + what); }
+    void checkVersion(bool binary);
     void warnOnce(const std::string& what)
     {
         if (warned_.insert(what).second) warn(what);
@@ -118,6 +121,7 @@ private:
     Scene& scene_;
     tinygltf::Model model_;
     std::set<std::string> warned_;
+    std::set<std::string> skippedModes_; // points and lines, for the error when nothing else is left
     int defaultMaterial_ = -1;
 };
 
@@ -127,6 +131,29 @@ bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
                const unsigned char*, int, void*)
 {
     return true;
+}
+
+// glTF 1.0 files (string ids, techniques) parse as nothing useful or fail
+// with a message about some field: say what they are instead.
+void Loader::checkVersion(bool binary)
+{
+    std::ifstream in(path_, std::ios::binary);
+    std::string version;
+    if (binary) {
+        unsigned char header[8] = {};
+        in.read(reinterpret_cast<char*>(header), 8);
+        if (in.gcount() == 8 && std::memcmp(header, "glTF", 4) == 0)
+            version = std::to_string(header[4] | header[5] << 8 | header[6] << 16 | unsigned(header[7]) << 24);
+    } else {
+        nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+        if (j.is_object() && j.contains("asset") && j["asset"].is_object() && j["asset"].contains("version") &&
+            j["asset"]["version"].is_string())
+            version = j["asset"]["version"].get<std::string>();
+        else if (j.is_object() && j.contains("scene") && j["scene"].is_string())
+            version = "1.0"; // 1.0's string ids, with no asset.version
+    }
+    if (!version.empty() && version[0] == '1')
+        fail("glTF " + version + " is not supported (only glTF 2.0): convert the file to glTF 2.0");
 }
 
 void Loader::load()
@@ -141,6 +168,7 @@ void Loader::load()
     std::string err, warn;
     std::string ext = fs::path(path_).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    checkVersion(ext == ".glb");
     bool ok = false;
     try {
         ok = ext == ".glb" ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_)
@@ -160,7 +188,11 @@ void Loader::load()
     loadMaterials();
     visitNodes();
     loadBackground();
-    if (scene_.triangleCount() == 0) fail("the scene has no triangles");
+    if (scene_.triangleCount() == 0) {
+        std::string skipped;
+        for (const std::string& m : skippedModes_) skipped += (skipped.empty() ? "" : ", ") + m;
+        fail("the scene has no triangles" + (skipped.empty() ? std::string() : " (skipped: " + skipped + " primitives)"));
+    }
 }
 
 const std::set<std::string>& supportedExtensions()
@@ -463,6 +495,30 @@ int glTFDefaultMaterial(Scene& scene)
     return int(scene.materials.size()) - 1;
 }
 
+// The triangles of a TRIANGLE_STRIP or TRIANGLE_FAN as a triangle list, with
+// glTF's winding (spec §3.7.2.1): strip triangle i is (v_i, v_{i+1+i%2},
+// v_{i+2-i%2}), fan triangle i is (v_{i+1}, v_{i+2}, v_0). Triangles with a
+// repeated vertex (a strip's restarts) are dropped.
+static std::vector<uint32_t> triangulate(int mode, const std::vector<uint32_t>& v)
+{
+    std::vector<uint32_t> out;
+    for (size_t i = 0; i + 2 < v.size(); ++i) {
+        uint32_t t[3];
+        if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            t[0] = v[i];
+            t[1] = v[i + 1 + i % 2];
+            t[2] = v[i + 2 - i % 2];
+        } else {
+            t[0] = v[i + 1];
+            t[1] = v[i + 2];
+            t[2] = v[0];
+        }
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+        out.insert(out.end(), t, t + 3);
+    }
+    return out;
+}
+
 void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeName)
 {
     if (size_t(meshIndex) >= model_.meshes.size())
@@ -483,9 +539,12 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
         const tinygltf::Primitive& prim = mesh.primitives[p];
         std::string what = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
-        if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) {
-            std::string mode = prim.mode >= 0 && prim.mode <= 6 ? modeNames[prim.mode] : std::to_string(prim.mode);
-            fail(what + ": primitive mode " + mode + " is not supported (only TRIANGLES)");
+        int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+        if (mode < 0 || mode > TINYGLTF_MODE_TRIANGLE_FAN) fail(what + ": unknown primitive mode " + std::to_string(mode));
+        if (mode < TINYGLTF_MODE_TRIANGLES) { // points and lines have no area to render
+            warnOnce(std::string(modeNames[mode]) + " primitives are skipped: only triangles are rendered");
+            skippedModes_.insert(modeNames[mode]);
+            continue;
         }
         if (!prim.targets.empty()) warnOnce("morph targets are not supported; base geometry is used");
         auto pos = prim.attributes.find("POSITION");
@@ -510,7 +569,9 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             indices.resize(positions.size());
             for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
         }
-        if (indices.size() % 3 != 0) fail(what + ": index count is not a multiple of 3");
+        if (mode == TINYGLTF_MODE_TRIANGLES && indices.size() % 3 != 0)
+            fail(what + ": index count is not a multiple of 3");
+        if (mode != TINYGLTF_MODE_TRIANGLES) indices = triangulate(mode, indices);
 
         int material = prim.material;
         if (material >= int(scene_.materials.size()) || (material >= 0 && size_t(material) >= model_.materials.size()))
@@ -554,16 +615,18 @@ void Loader::addCamera(int cameraIndex, const Mat4& world)
         warnOnce("camera " + std::to_string(cameraIndex) + " is " + cam.type + "; only perspective cameras are used");
         return;
     }
-    if (scene_.cameraFromFile) return; // the first perspective camera wins
     double yfov = cam.perspective.yfov;
     if (!(yfov > 0 && yfov < M_PI)) fail("camera " + std::to_string(cameraIndex) + ": yfov must be in (0, pi)");
-    scene_.camera.position = transformPoint(world, {0, 0, 0});
-    scene_.camera.forward = normalize(transformVector(world, {0, 0, -1}));
-    scene_.camera.up = normalize(transformVector(world, {0, 1, 0}));
-    scene_.camera.yfov = float(yfov);
-    scene_.camera.aspectRatio = cam.perspective.aspectRatio > 0 ? float(cam.perspective.aspectRatio) : 0.0f;
-    if (!isFinite(scene_.camera.forward) || !isFinite(scene_.camera.up))
+    CameraView view;
+    view.position = transformPoint(world, {0, 0, 0});
+    view.forward = normalize(transformVector(world, {0, 0, -1}));
+    view.up = normalize(transformVector(world, {0, 1, 0}));
+    view.yfov = float(yfov);
+    view.aspectRatio = cam.perspective.aspectRatio > 0 ? float(cam.perspective.aspectRatio) : 0.0f;
+    if (!isFinite(view.forward) || !isFinite(view.up))
         fail("camera " + std::to_string(cameraIndex) + ": degenerate node transform");
+    scene_.cameras.push_back(view);
+    if (!scene_.cameraFromFile) scene_.camera = view; // the first perspective camera is the default
     scene_.cameraFromFile = true;
 }
 

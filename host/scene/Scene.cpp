@@ -1,5 +1,7 @@
 #include "Scene.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 namespace wv {
@@ -27,6 +29,14 @@ SceneFeatures Scene::features() const
     }
     f.background = background.x > 0 || background.y > 0 || background.z > 0;
     return f;
+}
+
+bool Scene::hasLight() const
+{
+    if (!lights.empty() || std::max({background.x, background.y, background.z}) > 0) return true;
+    for (int m : triangleMaterial)
+        if (std::max({materials[m].emission[0], materials[m].emission[1], materials[m].emission[2]}) > 0) return true;
+    return false;
 }
 
 std::string SceneFeatures::buildOptions() const

@@ -49,8 +49,9 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Light> lights; // punctual lights only; see render/LightTable.h
     Vec3 background{0, 0, 0}; // uniform background radiance (scene extras.background)
-    CameraView camera;
+    CameraView camera;         // the one rendered: the file's first perspective camera by default
     bool cameraFromFile = false;
+    std::vector<CameraView> cameras; // every perspective camera of the file, in node order (--camera N)
     // Where the scene's coordinates start in the file's: the loader moves a
     // scene that lies far from the origin (compared with its size) so that
     // its centre is at the origin (file position = position + origin).
@@ -58,6 +59,9 @@ struct Scene {
     std::vector<std::string> warnings;
 
     size_t triangleCount() const { return triangleMaterial.size(); }
+    // Whether anything emits: a punctual light, a triangle whose material
+    // emits, or the background.
+    bool hasLight() const;
     Bounds bounds() const;
     SceneFeatures features() const;
 };
