@@ -26,7 +26,7 @@
 #include "EmbreeReference.h"
 #endif
 
-#include "../kernels/queue_ids.h"
+#include "../kernels/interface/queue_ids.h"
 
 #include <benchmark/benchmark.h>
 
@@ -115,7 +115,7 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
     size_t n = size_t(state.range(0));
     std::vector<Float4> origins, directions;
     makeRays(f.scene, n, coherent, anyHit, &origins, &directions);
-    std::string source = expandKernelSources(findKernelDir(), {"extend.cl", "connect.cl"});
+    std::string source = expandKernelSources(findKernelDir(), {"stages/extend.cl", "stages/connect.cl"});
     cl::Program program = buildProgram(device.context, f.device, source, "-cl-std=CL1.2").program;
     cl::Buffer o = uploadBuffer(device, origins.data(), n * 16, "origins");
     cl::Buffer d = uploadBuffer(device, directions.data(), n * 16, "directions");
@@ -252,7 +252,7 @@ void BM_HashGridBuild(benchmark::State& state)
 {
     Fixture& f = Fixture::get();
     DeviceContext device(f.device);
-    std::string source = expandKernelSources(findKernelDir(), {"hash_grid.cl"});
+    std::string source = expandKernelSources(findKernelDir(), {"stages/hash_grid.cl"});
     cl::Program program = buildProgram(device.context, f.device, source, "-cl-std=CL1.2").program;
     size_t n = size_t(state.range(0));
     std::mt19937 rng(3);

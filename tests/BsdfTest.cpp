@@ -1,4 +1,4 @@
-// The BSDF of kernels/bsdf.h against its own definition and the physics it
+// The BSDF of kernels/materials/bsdf.h against its own definition and the physics it
 // claims: sampling follows the evaluated pdf (a chi-square test in the spirit
 // of Mitsuba's), the pdf integrates to at most one, sample and eval agree,
 // reverse pdfs, reciprocity, energy conservation, and the delta lobes' exact
@@ -69,7 +69,7 @@ D3 uniformSphere(std::mt19937& rng)
 }
 
 // Exact dielectric Fresnel and Schlick's, in double, written independently of
-// kernels/fresnel.h.
+// kernels/materials/fresnel.h.
 double fresnelDielectric(double cosI, double eta)
 {
     double sin2T = (1 - cosI * cosI) / (eta * eta);

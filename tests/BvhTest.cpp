@@ -4,7 +4,7 @@
 // any-hit occlusion must agree with the closest hit for every segment length.
 // Ray sets include rays through shared edges and vertices, axis-parallel rays
 // and rays starting on surfaces.
-#include "../kernels/queue_ids.h"
+#include "../kernels/interface/queue_ids.h"
 #include "TestDevices.h"
 #include "bvh/Bvh.h"
 #include "render/KernelBindings.h"
@@ -72,7 +72,7 @@ class Tracer {
 public:
     Tracer(const DeviceInfo& info, const Scene& scene)
         : device_(info), bvh_(buildBvh(scene.vertices)), buffers_(device_, scene, bvh_, buildLightTable(scene, bvh_)),
-          program_(test::buildTestProgram(device_, {"extend.cl", test::testKernel("trace_tests.cl")})),
+          program_(test::buildTestProgram(device_, {"stages/extend.cl", test::testKernel("trace_tests.cl")})),
           triangleCount_(int(scene.triangleCount()))
     {
     }

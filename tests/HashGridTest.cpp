@@ -25,7 +25,7 @@ void checkCase(const DeviceInfo& info, const Case& c)
 {
     SCOPED_TRACE(std::string(c.what) + " on " + info.name);
     DeviceContext device(info);
-    cl::Program program = test::buildTestProgram(device, {"hash_grid.cl", test::testKernel("grid_tests.cl")});
+    cl::Program program = test::buildTestProgram(device, {"stages/hash_grid.cl", test::testKernel("grid_tests.cl")});
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(-c.spread, c.spread), cluster(-3 * c.radius, 3 * c.radius);
     std::vector<LightVertex> vertices(size_t(c.vertices));

@@ -1,4 +1,4 @@
-// The render kernels' interface is declared once (kernels/kernel_interface.h):
+// The render kernels' interface is declared once (kernels/interface/kernel_interface.h):
 // every kernel of every algorithm's program takes exactly the buffers of
 // RENDER_BUFFERS, by those names and in that order, then the LaunchParams,
 // as the host binds them (host/render/KernelBindings.h). A kernel written with

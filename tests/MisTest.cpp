@@ -1,5 +1,5 @@
 // The MIS weights of all techniques that sample one path sum to one: vertex
-// connection and merging's recursive quantities (kernels/mis.h) must
+// connection and merging's recursive quantities (kernels/transport/mis.h) must
 // reproduce, for every way of splitting a path, the same set of pdf ratios.
 // Fixed random paths of 2 to 6 segments over Lambertian vertices from a
 // triangle light to the camera; every technique VCM has: emission hit,

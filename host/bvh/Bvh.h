@@ -2,7 +2,7 @@
 // flattened depth-first into the BvhNode array the kernels traverse.
 #pragma once
 
-#include "../../kernels/shared_types.h"
+#include "../../kernels/interface/shared_types.h"
 #include "../Vec3.h"
 
 #include <cstdint>
@@ -21,7 +21,7 @@ struct Bvh {
 // `vertices` holds three vertices per triangle. Throws if there are none.
 Bvh buildBvh(const std::vector<Vec3>& vertices);
 
-// The kernels' stack bound (kernels/bvh_traversal.h); the build stays within it.
+// The kernels' stack bound (kernels/geometry/bvh_traversal.h); the build stays within it.
 constexpr int kMaxBvhDepth = 63;
 
 } // namespace wv

@@ -31,10 +31,10 @@ std::string findKernelDir()
     if (!ec) candidates.push_back(exe.parent_path().parent_path() / "share" / "wavevcm" / "kernels");
     candidates.emplace_back(WAVEVCM_SOURCE_KERNEL_DIR);
     for (const fs::path& dir : candidates)
-        if (fs::exists(dir / "shared_types.h", ec)) return dir.string();
+        if (fs::exists(dir / "interface" / "shared_types.h", ec)) return dir.string();
     std::string tried;
     for (const fs::path& dir : candidates) tried += "\n  " + dir.string();
-    throw Error("cannot find the kernel sources (kernels/shared_types.h); looked in:" + tried +
+    throw Error("cannot find the kernel sources (kernels/interface/shared_types.h); looked in:" + tried +
                 "\nset WAVEVCM_KERNEL_DIR to the kernels/ directory");
 }
 

@@ -1,5 +1,5 @@
 // The hash grid over light vertices for vertex merging, built on the device
-// each iteration (kernels/hash_grid.cl, kernels/hash_grid.h): a counting
+// each iteration (kernels/stages/hash_grid.cl, kernels/transport/hash_grid.h): a counting
 // sort of the vertices into buckets of hashed 2r-cells.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The host side of kernels/kernel_interface.h: every render kernel takes the
+// The host side of kernels/interface/kernel_interface.h: every render kernel takes the
 // buffers of RENDER_BUFFERS in order, then LaunchParams by value. Both sides
 // expand the same lists, so the argument order is written nowhere else.
 #pragma once
@@ -11,14 +11,14 @@ using float4 = cl_float4;
 using float2 = cl_float2;
 } // namespace wv
 
-#include "../../kernels/kernel_interface.h"
+#include "../../kernels/interface/kernel_interface.h"
 
 #include <cstddef>
 
 namespace wv {
 
 static_assert(sizeof(LaunchParams) % 4 == 0 && alignof(LaunchParams) == 4,
-              "LaunchParams holds 4-byte scalars only (kernels/kernel_interface.h)");
+              "LaunchParams holds 4-byte scalars only (kernels/interface/kernel_interface.h)");
 
 // One handle per buffer a render kernel takes, by the kernels' names. A
 // buffer an algorithm does not use stays null (a null cl_mem argument).

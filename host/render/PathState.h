@@ -1,10 +1,10 @@
 // Device buffers for one wavefront of paths: the path-state fields of
-// kernels/kernel_interface.h (structure of arrays, one buffer per field,
-// indexed by path slot), the work queues (kernels/queue_ids.h) and their
+// kernels/interface/kernel_interface.h (structure of arrays, one buffer per field,
+// indexed by path slot), the work queues (kernels/interface/queue_ids.h) and their
 // counters. Sized by the wavefront capacity, independent of the image size.
 #pragma once
 
-#include "../../kernels/queue_ids.h"
+#include "../../kernels/interface/queue_ids.h"
 #include "../cl/DeviceContext.h"
 #include "KernelBindings.h"
 

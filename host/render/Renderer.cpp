@@ -1,6 +1,6 @@
 #include "Renderer.h"
 
-#include "../../kernels/queue_ids.h"
+#include "../../kernels/interface/queue_ids.h"
 #include "../Error.h"
 
 #include <algorithm>
@@ -10,15 +10,20 @@ namespace wv {
 
 std::vector<std::string> Renderer::kernelFiles(Algorithm algorithm)
 {
+    std::vector<std::string> stages;
     switch (algorithm) {
     case Algorithm::EyeLight:
-        return {"generate.cl", "extend.cl", "shade_eyelight.cl", "escaped.cl", "accumulate.cl"};
+        stages = {"generate", "extend", "shade_eyelight", "escaped", "accumulate"};
+        break;
     case Algorithm::PathTracing:
-        return {"generate.cl", "extend.cl", "shade.cl", "escaped.cl", "connect.cl", "accumulate.cl"};
+        stages = {"generate", "extend", "shade", "escaped", "connect", "accumulate"};
+        break;
     default:
-        return {"generate.cl", "extend.cl", "shade_light.cl", "hash_grid.cl", "connect_vertices.cl", "merge.cl",
-                "shade_bidirectional.cl", "escaped.cl", "connect.cl", "accumulate.cl"};
+        stages = {"generate", "extend",  "shade_light", "hash_grid", "connect_vertices", "merge", "shade_bidirectional",
+                  "escaped",  "connect", "accumulate"};
     }
+    for (std::string& s : stages) s = "stages/" + s + ".cl";
+    return stages;
 }
 
 std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& features)

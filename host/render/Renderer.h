@@ -105,7 +105,7 @@ private:
     bool bidirectional_ = false;
     LightTable lights_;
     SceneBuffers sceneBuffers_;
-    // Every buffer the render kernels take (kernels/kernel_interface.h), and
+    // Every buffer the render kernels take (kernels/interface/kernel_interface.h), and
     // the scalars of the next launch: the whole kernel interface.
     KernelBuffers buffers_;
     LaunchParams params_{};

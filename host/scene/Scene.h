@@ -2,7 +2,7 @@
 // lights, a camera and the set of features the kernels must be compiled for.
 #pragma once
 
-#include "../../kernels/shared_types.h"
+#include "../../kernels/interface/shared_types.h"
 #include "../Vec3.h"
 
 #include <string>

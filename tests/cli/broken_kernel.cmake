@@ -3,7 +3,7 @@
 #   cmake -DWAVEVCM=... -DKERNELS=... -DWORKDIR=... -P broken_kernel.cmake
 file(REMOVE_RECURSE ${WORKDIR})
 file(COPY ${KERNELS}/ DESTINATION ${WORKDIR})
-file(APPEND ${WORKDIR}/extend.cl "\nthis_is_not_opencl(;\n")
+file(APPEND ${WORKDIR}/stages/extend.cl "\nthis_is_not_opencl(;\n")
 execute_process(COMMAND ${CMAKE_COMMAND} -E env WAVEVCM_KERNEL_DIR=${WORKDIR}
                         ${WAVEVCM} render -a pt -n 1 --width 8 --height 8 -o ${WORKDIR}/x.png
   RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)

@@ -1,9 +1,9 @@
 /* Test-only kernels for tests/BsdfTest.cpp: the production make_bsdf,
- * bsdf_sample and bsdf_eval (kernels/bsdf.h) for host-chosen materials,
+ * bsdf_sample and bsdf_eval (kernels/materials/bsdf.h) for host-chosen materials,
  * local directions and random numbers. A setup is (material index,
  * frontSide, adjoint, unused); every work item has its own setup and wo. */
-#include "inline.h"
-#include "bsdf.h"
+#include "interface/inline.h"
+#include "materials/bsdf.h"
 
 /* One bsdf_sample per work item with the host's random numbers u[i].xyz,
  * plus bsdf_eval at the sampled pair (non-delta samples only).

@@ -1,8 +1,8 @@
 /* Test-only kernel: a range query through the hash grid, as merge.cl does
  * it, returning how many vertices lie within r of each query point and the
  * sum of their indices (so a wrong or duplicated vertex shows). */
-#include "hash_grid.h"
-#include "shared_types.h"
+#include "interface/shared_types.h"
+#include "transport/hash_grid.h"
 
 __kernel void grid_query(__global const LightVertex* vertices, __global const int* bucketStarts,
                          __global const float4* bucketPoints, uint buckets, float radius,

@@ -1,6 +1,6 @@
 /* Test-only kernels for lights.h. */
-#include "lights.h"
-#include "rng.h"
+#include "core/rng.h"
+#include "lights/lights.h"
 
 /* Per sample: the power estimate radiance · cos / (pdfPosition · pdfDirection)
  * of one emission sample (0 if none was produced). Its mean is the total

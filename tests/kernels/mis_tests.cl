@@ -2,10 +2,10 @@
  * camera) over Lambertian vertices, the VCM weights of every technique that
  * samples it, computed with the production MIS quantities and weights
  * (mis.h) from the production BSDF's densities (bsdf.h). Their sum must be 1. */
-#include "inline.h"
-#include "bsdf.h"
-#include "camera.h"
-#include "mis.h"
+#include "interface/inline.h"
+#include "lights/camera.h"
+#include "materials/bsdf.h"
+#include "transport/mis.h"
 
 typedef struct Densities {
     float fwd, rev, cont; /* fixed→out, out→fixed (both solid angle), continuation probability */

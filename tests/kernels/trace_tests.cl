@@ -1,8 +1,8 @@
 /* Test-only kernels: a brute-force reference for the BVH traversal (the same
  * triangle test over every triangle) and rays spawned from surface points
  * with the production offset. */
-#include "bvh_traversal.h"
-#include "path_state.h"
+#include "geometry/bvh_traversal.h"
+#include "transport/path_state.h"
 
 __kernel void brute_force_closest(__global const float4* triVertices, int triangleCount,
                                   __global const float4* rayOrigins,

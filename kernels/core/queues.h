@@ -1,0 +1,68 @@
+/* Pushing to and reading from the work queues (queue_ids.h). Kernels that
+ * consume a queue are launched over an upper bound of its size that the host
+ * knows and skip items past its actual size. */
+#ifndef WAVEVCM_QUEUES_H
+#define WAVEVCM_QUEUES_H
+
+#include "interface/inline.h"
+#include "interface/queue_ids.h"
+
+/* No counter (a lane of group_allocate4 that nobody wants). */
+#define NO_COUNTER (-1)
+
+/* For each of up to four counters (lanes x, y, z, w of `counter`), the next
+ * index of that counter for every work-item that `wants` one in that lane,
+ * -1 for the others. Aggregated per work-group: one global atomic per counter
+ * per group reserves room for all its items (a global atomic per item cost
+ * ~95 ns on a 2-core CPU, the counter's cache line bouncing between cores,
+ * more than shading). All of a kernel's pushes go through one call: it has
+ * three barriers, and on PoCL each barrier splits the work-group loop and
+ * spills the live values. Every work-item of the group must call it, once
+ * per kernel; `scratch` is __local int[8]. */
+INLINE int4 group_allocate4(__global int* counters, int4 counter, int4 wants, __local int* scratch)
+{
+    if (get_local_id(0) == 0)
+        vstore4((int4)(0), 0, scratch);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    int4 index;
+    index.x = wants.x ? atomic_inc(&scratch[0]) : 0;
+    index.y = wants.y ? atomic_inc(&scratch[1]) : 0;
+    index.z = wants.z ? atomic_inc(&scratch[2]) : 0;
+    index.w = wants.w ? atomic_inc(&scratch[3]) : 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (get_local_id(0) == 0) {
+        int4 n = vload4(0, scratch);
+        int4 base;
+        base.x = n.x > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.x)], n.x) : 0;
+        base.y = n.y > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.y)], n.y) : 0;
+        base.z = n.z > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.z)], n.z) : 0;
+        base.w = n.w > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.w)], n.w) : 0;
+        vstore4(base, 1, scratch);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    return select((int4)(-1), vload4(1, scratch) + index, wants != 0);
+}
+
+/* Appends `slot` to each queue of `queues` whose lane of `push` is set
+ * (group_allocate4's rules apply; unused lanes: NO_COUNTER, push 0). */
+INLINE void queue_push4(__global int* items, __global int* counters, int capacity, int4 queues, int4 push,
+                                int slot, __local int* scratch)
+{
+    int4 at = group_allocate4(counters, queues, push, scratch);
+    if (at.x >= 0)
+        items[queues.x * capacity + at.x] = slot;
+    if (at.y >= 0)
+        items[queues.y * capacity + at.y] = slot;
+    if (at.z >= 0)
+        items[queues.z * capacity + at.z] = slot;
+    if (at.w >= 0)
+        items[queues.w * capacity + at.w] = slot;
+}
+
+/* The slot of the i-th entry of `queue`, or -1 past its end. */
+INLINE int queue_item(__global const int* items, __global const int* counters, int capacity, int queue, int i)
+{
+    return i < counters[COUNTER_INDEX(queue)] ? items[queue * capacity + i] : -1;
+}
+
+#endif

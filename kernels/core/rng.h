@@ -1,0 +1,40 @@
+/* Counter-based random numbers: Philox4x32-10 (Salmon et al., "Parallel random
+ * numbers: as easy as 1, 2, 3", SC 2011). A draw is a pure function of
+ * (seed, iteration, sample, bounce, dimension), so every device draws the same
+ * numbers and images from different devices can be compared sample for sample. */
+#ifndef WAVEVCM_RNG_H
+#define WAVEVCM_RNG_H
+
+#include "interface/inline.h"
+
+/* One Philox round: two 32x32->64 multiplies, mixed with the key. */
+INLINE uint4 philox_round(uint4 c, uint2 k)
+{
+    const uint M0 = 0xD2511F53u, M1 = 0xCD9E8D57u;
+    return (uint4)(mul_hi(M1, c.z) ^ c.y ^ k.x, M1 * c.z,
+                   mul_hi(M0, c.x) ^ c.w ^ k.y, M0 * c.x);
+}
+
+INLINE uint4 philox4x32_10(uint4 counter, uint2 key)
+{
+    const uint2 W = (uint2)(0x9E3779B9u, 0xBB67AE85u); /* Weyl key increments */
+    for (int i = 0; i < 9; ++i) {
+        counter = philox_round(counter, key);
+        key += W;
+    }
+    return philox_round(counter, key);
+}
+
+/* 24 high bits to a float in [0, 1): exact, never rounds up to 1. */
+INLINE float uint_to_unit_float(uint x) { return (float)(x >> 8) * 0x1.0p-24f; }
+
+/* Four uniform numbers for dimensions [4·block, 4·block + 4) of one sample at
+ * one bounce. `sample` is the global sample index within the iteration. */
+INLINE float4 rng_uniform4(uint seed, uint iteration, uint sample, uint bounce, uint block)
+{
+    uint4 bits = philox4x32_10((uint4)(sample, iteration, bounce, block), (uint2)(seed, 0x5EEDu));
+    return (float4)(uint_to_unit_float(bits.x), uint_to_unit_float(bits.y),
+                    uint_to_unit_float(bits.z), uint_to_unit_float(bits.w));
+}
+
+#endif

@@ -1,0 +1,50 @@
+/* connect: trace every shadow ray in the shadow queue (any hit, up to
+ * direction.w) and, if nothing is in the way, add its contribution:
+ *   connect        to its camera path's pixel. Each pixel has one camera path
+ *                  per iteration, so no two items of a launch write the same
+ *                  pixel;
+ *   connect_splat  to the pixel a light path vertex projects to (light
+ *                  tracing): many may hit one pixel, so the adds are atomic.
+ *                  The sum then depends on timing only by float rounding. */
+#include "core/queues.h"
+#include "geometry/bvh_traversal.h"
+#include "interface/inline.h"
+#include "transport/path_state.h"
+
+__kernel void connect(RENDER_KERNEL_PARAMS)
+{
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
+    if (slot < 0)
+        return;
+    Hit hit;
+    if (!trace_ray(nodes, triVertices, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
+        pixelRadiance[pathPixel[slot]] += shadowContribution[slot];
+}
+
+/* *p += v as a compare-and-swap loop: OpenCL 1.2 has no float atomics. */
+INLINE void atomic_add_float(volatile __global float* p, float v)
+{
+    union {
+        uint u;
+        float f;
+    } expected, desired;
+    do {
+        expected.f = *p;
+        desired.f = expected.f + v;
+    } while (atomic_cmpxchg((volatile __global uint*)p, expected.u, desired.u) != expected.u);
+}
+
+__kernel void connect_splat(RENDER_KERNEL_PARAMS)
+{
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
+    if (slot < 0)
+        return;
+    Hit hit;
+    if (trace_ray(nodes, triVertices, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
+        return;
+    float4 c = shadowContribution[slot];
+    volatile __global float* pixel = (volatile __global float*)(splatRadiance + shadowPixel[slot]);
+    atomic_add_float(pixel, c.x);
+    atomic_add_float(pixel + 1, c.y);
+    atomic_add_float(pixel + 2, c.z);
+}

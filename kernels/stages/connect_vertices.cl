@@ -1,0 +1,86 @@
+/* connect_vertices (`-a bpt`): vertex connection. Every camera hit with a
+ * non-delta BSDF connects to each stored vertex of the light sub-path with
+ * its own index (one light path per camera path), MIS-weighted against all
+ * other techniques (Georgiev's report, eqs. 40-41 and 37), and adds what is
+ * visible to its pixel. It runs before `shade`, which then moves the path on.
+ * One work-item walks its whole light path and traces each shadow ray
+ * itself: the number of connections varies per path. */
+#include "core/nan_policy.h"
+#include "core/queues.h"
+#include "geometry/bvh_traversal.h"
+#include "geometry/surface.h"
+#include "lights/lights.h"
+#include "transport/camera_vertex.h"
+#include "transport/mis.h"
+#include "transport/path_state.h"
+
+__kernel void connect_vertices(RENDER_KERNEL_PARAMS)
+{
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
+    if (slot < 0)
+        return;
+    int depth = hit_depth(pathDepth, slot);
+    if (!path_fits(depth + 1 + 1, params.maxPathLength)) /* even the first light vertex makes it too long */
+        return;
+    if (!material_has_nondelta(&materials[triMaterials[hitTriangle[slot]]]))
+        return;
+    CameraVertex cv = camera_vertex(&b, slot);
+    if (!bsdf_has_nondelta(&cv.bsdf))
+        return;
+    SurfaceHit hit = cv.hit;
+    float3 woL = cv.woL;
+    Bsdf bsdf = cv.bsdf;
+    PathMis mis = cv.mis;
+    float contCamera = cv.continuation;
+    float3 beta = pathThroughput[slot].xyz;
+    int pixel = pathPixel[slot];
+
+    float3 L = (float3)(0.0f);
+    for (int v = lightPathHead[pixel - params.firstLightPath]; v >= 0; v = lightVertices[v].prev) {
+        __global const LightVertex* lv = &lightVertices[v];
+        if (!path_fits(depth + lv->pathLength + 1, params.maxPathLength))
+            continue; /* vertices go from the deepest back: shallower ones may still fit */
+        float3 toLight = vload3(0, lv->toLight);
+        SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, (float2)(lv->b1, lv->b2), toLight);
+        if (!connection_resolved(hit.p, hit.pError, hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF))
+            continue;
+        float3 d = lightHit.p - hit.p;
+        float dist2 = dot(d, d);
+        if (!(dist2 > 0.0f))
+            continue;
+        float dist = sqrt(dist2);
+        d /= dist;
+        float3 dL = to_local(&hit.frame, d);
+        float3 backL = to_local(&lightHit.frame, -d);
+        if (!sides_agree(&hit, d, dL) || !sides_agree(&lightHit, -d, backL))
+            continue;
+        float cameraFwd, cameraRev, lightFwd, lightRev;
+        float3 fCamera = bsdf_eval(&bsdf, woL, dL, false, &cameraFwd, &cameraRev);
+        float3 toLightL = to_local(&lightHit.frame, toLight);
+        Bsdf lightBsdf = make_bsdf(&materials[triMaterials[lv->triangle]], toLightL, lightHit.frontSide);
+        float3 fLight = bsdf_eval(&lightBsdf, toLightL, backL, true, &lightFwd, &lightRev) *
+                        adjoint_shading_correction(&lightHit, toLight, -d);
+        if (!(max_component(fCamera) > 0.0f && max_component(fLight) > 0.0f))
+            continue;
+        float contLight = continuation_probability(&lightBsdf);
+        cameraFwd *= contCamera;
+        cameraRev *= contCamera;
+        lightFwd *= contLight;
+        lightRev *= contLight;
+        float cosCamera = fabs(dL.z), cosLight = fabs(backL.z);
+        float geometry = cosCamera * cosLight / dist2;
+        PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
+        float w = mis_weight_connection(lightMis, mis, cameraFwd * cosLight / dist2, lightFwd * cosCamera / dist2,
+                                        lightRev, cameraRev, params.vmWeightFactor);
+        float3 c = (w * geometry) * beta * fCamera * fLight * vload3(0, lv->throughput);
+        if (!accept_finite(c, queueCounters))
+            continue;
+        Hit occluder;
+        if (!trace_ray(nodes, triVertices,
+                       ray_between(hit.p, hit.pError, hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF), true,
+                       &occluder))
+            L += c;
+    }
+    add_radiance(connectionRadiance, pixel, L, queueCounters);
+}

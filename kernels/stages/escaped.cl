@@ -1,0 +1,41 @@
+/* escaped: camera rays that left the scene see the background light,
+ * MIS-weighted against the other techniques that find it (power heuristic
+ * against next-event estimation for pt, the recursive weights for the
+ * bidirectional algorithms); light paths that leave just end. The slot is
+ * freed either way. */
+#include "core/nan_policy.h"
+#include "core/queues.h"
+#include "lights/lights.h"
+#include "transport/mis.h"
+#include "transport/path_state.h"
+
+__kernel void escaped(RENDER_KERNEL_PARAMS)
+{
+    __local int scratch[8];
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_ESCAPED, get_global_id(0));
+#if defined(HAS_BACKGROUND) && !defined(EYE_LIGHT)
+    if (slot >= 0 && params.cameraPaths && scene->backgroundLight >= 0) {
+        __global const Light* bg = &lights[scene->backgroundLight];
+        float w = 1.0f; /* seen directly, or through delta scattering only */
+#if defined(VERTEX_MERGING_ONLY)
+        w = (pathFlags[slot] & PATH_SPECULAR) ? 1.0f : 0.0f; /* merging covers the rest */
+#elif defined(BIDIRECTIONAL)
+        if (hit_depth(pathDepth, slot) > 1) { /* not the camera ray */
+            PathMis mis = load_mis(pathMis, slot);
+            float directPdfW, emissionPdfW;
+            background_hit_pdfs(bg->pmf, scene->radius, &directPdfW, &emissionPdfW);
+            w = mis_weight_emission_hit(mis, directPdfW, emissionPdfW);
+        }
+#else
+        float prevPdf = pathPrevPdf[slot];
+        float lightPdf = background_light_pdf(bg->pmf);
+        if (prevPdf > 0.0f)
+            w = prevPdf * prevPdf / (prevPdf * prevPdf + lightPdf * lightPdf);
+#endif
+        add_radiance(pixelRadiance, pathPixel[slot], w * pathThroughput[slot].xyz * vload3(0, bg->emission),
+                     queueCounters);
+    }
+#endif
+    queue_push4(queueItems, queueCounters, params.capacity, (int4)(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER),
+                (int4)(slot >= 0, 0, 0, 0), slot, scratch);
+}

@@ -1,0 +1,21 @@
+/* extend: closest hit for every ray in the ray queue, sorted into the hit
+ * queue (to shade) or the escaped queue. */
+#include "core/queues.h"
+#include "geometry/bvh_traversal.h"
+#include "transport/path_state.h"
+
+__kernel void extend(RENDER_KERNEL_PARAMS)
+{
+    __local int scratch[8];
+    int slot = queue_item(queueItems, queueCounters, params.capacity, params.rayQueue, get_global_id(0));
+    bool found = false;
+    if (slot >= 0) {
+        Hit hit;
+        found = trace_ray(nodes, triVertices, load_ray(rayOrigins, rayDirections, slot), false, &hit);
+        hitTriangle[slot] = hit.triangle;
+        hitT[slot] = found ? hit.t : INFINITY;
+        hitBary[slot] = (float2)(hit.b1, hit.b2);
+    }
+    queue_push4(queueItems, queueCounters, params.capacity, (int4)(QUEUE_HITS, QUEUE_ESCAPED, NO_COUNTER, NO_COUNTER),
+                (int4)(slot >= 0 && found, slot >= 0 && !found, 0, 0), slot, scratch);
+}

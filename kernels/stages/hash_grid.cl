@@ -1,0 +1,69 @@
+/* Building the hash grid (hash_grid.h) over the stored light vertices, on
+ * the device: count per bucket, exclusive prefix sum, scatter.
+ * The prefix sum works in chunks: each work-item scans its own chunk
+ * serially (scan_chunks), one work-item scans the chunk totals (scan_totals),
+ * and every chunk adds its offset (scan_add) — no barriers, which CPU
+ * devices run slowly, and few enough chunks for the serial middle step. */
+#include "interface/shared_types.h"
+#include "transport/hash_grid.h"
+
+__kernel void grid_count(__global const LightVertex* vertices, int count, float cellSize, uint cellCount,
+                         __global int* bucketCounts)
+{
+    int i = get_global_id(0);
+    if (i >= count)
+        return;
+    atomic_inc(&bucketCounts[grid_bucket(grid_cell(vload3(0, vertices[i].position), cellSize), cellCount)]);
+}
+
+/* In place: values[i] becomes the sum of the values before it in its chunk;
+ * chunkTotals[c] the sum of chunk c. */
+__kernel void scan_chunks(__global int* values, int count, int chunk, __global int* chunkTotals, int chunks)
+{
+    int c = get_global_id(0);
+    if (c >= chunks)
+        return;
+    int sum = 0;
+    int end = min(count, (c + 1) * chunk);
+    for (int i = c * chunk; i < end; ++i) {
+        int v = values[i];
+        values[i] = sum;
+        sum += v;
+    }
+    chunkTotals[c] = sum;
+}
+
+/* One work-item: exclusive prefix sum of the chunk totals; the grand total
+ * goes to chunkTotals[chunks]. */
+__kernel void scan_totals(__global int* chunkTotals, int chunks)
+{
+    if (get_global_id(0) != 0)
+        return;
+    int sum = 0;
+    for (int c = 0; c < chunks; ++c) {
+        int v = chunkTotals[c];
+        chunkTotals[c] = sum;
+        sum += v;
+    }
+    chunkTotals[chunks] = sum;
+}
+
+__kernel void scan_add(__global int* values, int count, int chunk, __global const int* chunkTotals)
+{
+    int i = get_global_id(0);
+    if (i < count)
+        values[i] += chunkTotals[i / chunk];
+    else if (i == count) /* the end of the last bucket */
+        values[count] = chunkTotals[(count + chunk - 1) / chunk];
+}
+
+__kernel void grid_scatter(__global const LightVertex* vertices, int count, float cellSize, uint cellCount,
+                           __global const int* bucketStarts, __global int* bucketFill, __global float4* bucketPoints)
+{
+    int i = get_global_id(0);
+    if (i >= count)
+        return;
+    float3 p = vload3(0, vertices[i].position);
+    uint b = grid_bucket(grid_cell(p, cellSize), cellCount);
+    bucketPoints[bucketStarts[b] + atomic_inc(&bucketFill[b])] = (float4)(p, as_float(i));
+}

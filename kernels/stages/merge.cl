@@ -1,0 +1,77 @@
+/* merge (`-a ppm`, `-a bpm`, `-a vcm`): vertex merging. Every camera hit
+ * with a non-delta BSDF gathers the light vertices within radius r (a range
+ * query in the hash grid) as a path sampling technique (Georgiev et al. 2012):
+ * each merge adds f · throughput_light / (π r² N_light), weighted against all
+ * other techniques with dVCM and dVM (eqs. 37-39; ppm: weight 1). It runs
+ * before `shade`, which then moves the path on. No cosine at the camera
+ * vertex: the light vertices' density on the surface already carries it. */
+#include "core/nan_policy.h"
+#include "core/queues.h"
+#include "geometry/surface.h"
+#include "transport/camera_vertex.h"
+#include "transport/hash_grid.h"
+#include "transport/mis.h"
+#include "transport/path_state.h"
+
+__kernel void merge(RENDER_KERNEL_PARAMS)
+{
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
+    if (slot < 0)
+        return;
+    /* Most camera vertices have no light vertex within r: find that out from
+     * the point and the grid's 16-byte points before building the camera
+     * vertex (normals, frame, BSDF). */
+    int tri = hitTriangle[slot];
+    if (!material_has_nondelta(&materials[triMaterials[tri]]))
+        return;
+    float3 pError;
+    float3 p = surface_hit_point(triVertices, tri, hitBary[slot], &pError);
+    float radius2 = params.mergeRadius * params.mergeRadius;
+    int buckets[8];
+    grid_query_buckets(p, 2.0f * params.mergeRadius, params.cellCount, buckets);
+    if (!grid_any_within(bucketStarts, bucketPoints, buckets, p, radius2))
+        return;
+    CameraVertex cv = camera_vertex(&b, slot);
+    if (!bsdf_has_nondelta(&cv.bsdf))
+        return;
+    SurfaceHit hit = cv.hit;
+    float3 woL = cv.woL;
+    Bsdf bsdf = cv.bsdf;
+    PathMis mis = cv.mis;
+    float contCamera = cv.continuation;
+    int depth = hit_depth(pathDepth, slot);
+
+    float3 sum = (float3)(0.0f);
+    for (int k = 0; k < 8; ++k) {
+        if (buckets[k] < 0)
+            continue;
+        int end = bucketStarts[buckets[k] + 1];
+        for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
+            float4 point = bucketPoints[j];
+            float3 d = point.xyz - hit.p;
+            if (dot(d, d) > radius2)
+                continue;
+            __global const LightVertex* lv = &lightVertices[as_int(point.w)];
+            if (!path_fits(depth + lv->pathLength, params.maxPathLength))
+                continue;
+            /* The light arrives along the light vertex's incoming direction. */
+            float3 toLight = vload3(0, lv->toLight);
+            float3 toLightL = to_local(&hit.frame, toLight);
+            if (!sides_agree(&hit, toLight, toLightL))
+                continue;
+            float pdfFwd, pdfRev;
+            float3 f = bsdf_eval(&bsdf, woL, toLightL, false, &pdfFwd, &pdfRev);
+            if (!(max_component(f) > 0.0f))
+                continue;
+            float w = 1.0f;
+#ifndef PPM
+            PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
+            w = mis_weight_merge(lightMis, mis, pdfFwd * contCamera, pdfRev * lv->continuation, params.vcWeightFactor);
+#endif
+            sum += w * f * vload3(0, lv->throughput);
+        }
+    }
+    add_radiance(mergingRadiance, pathPixel[slot], pathThroughput[slot].xyz * sum * params.vmNormalization,
+                 queueCounters);
+}

@@ -1,0 +1,125 @@
+/* shade_bidirectional: camera sub-paths of lt, bpt, ppm, bpm and vcm
+ * (SmallVCM's camera pass, vertexcm.hxx). At every hit, in order,
+ *   1. convert the MIS quantities of the last segment to area measure;
+ *   2. emission seen here (front faces only), weighted against every other
+ *      technique that samples this path (eqs. 42-43); with merging but no
+ *      connections (ppm, bpm) only purely specular paths take it, with
+ *      weight 1, as merging covers the rest;
+ *   lt ends here: its camera paths only see what is directly visible;
+ *   3. next-event estimation with its weight (eqs. 44-45), queued for
+ *      `connect` (not in ppm and bpm); vertex connections and merges were
+ *      added by `connect_vertices` and `merge` before this;
+ *   4. sample the BSDF to continue, with Russian roulette by the material's
+ *      continuation probability (part of every pdf in the weights); ppm ends
+ *      the path at its first non-delta vertex, where it merged. */
+#include "core/queues.h"
+#include "core/rng.h"
+#include "geometry/surface.h"
+#include "interface/inline.h"
+#include "lights/lights.h"
+#include "materials/bsdf.h"
+#include "transport/continue_path.h"
+#include "transport/mis.h"
+#include "transport/path_state.h"
+
+/* int, not bool, flags: rusticl (Mesa 22.3) loses bool members of a struct
+ * returned from a function. */
+typedef struct CameraHitResult {
+    int alive, shadowRay;
+} CameraHitResult;
+
+INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchParams* params, int slot)
+{
+    CameraHitResult r = {0, 0};
+    int tri = b->hitTriangle[slot];
+    float3 wo = -b->rayDirections[slot].xyz;
+    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, b->hitBary[slot], wo);
+    float3 woL = to_local(&hit.frame, wo);
+    int depth = hit_depth(b->pathDepth, slot);
+    int pixel = b->pathPixel[slot];
+    float3 beta = b->pathThroughput[slot].xyz;
+    PathMis mis = load_mis(b->pathMis, slot);
+    mis_at_hit(&mis, b->hitT[slot], fabs(woL.z), true);
+    float3 L = (float3)(0.0f);
+
+#ifdef HAS_EMISSIVE_TRIANGLES
+    int light = b->triangleLight[tri];
+    bool specularPath = (b->pathFlags[slot] & PATH_SPECULAR) != 0;
+    if (light >= 0 && hit.frontSide) {
+        float w = 1.0f; /* seen directly: no other technique */
+#ifdef VERTEX_MERGING_ONLY
+        w = specularPath ? 1.0f : 0.0f;
+#else
+        if (depth > 1) {
+            float directPdfA, emissionPdfW;
+            triangle_hit_pdfs(b->lights[light].pmf, b->lights[light].area, dot(wo, hit.ngF), &directPdfA, &emissionPdfW);
+            w = mis_weight_emission_hit(mis, directPdfA, emissionPdfW);
+        }
+#endif
+        L += w * beta * vload3(0, b->lights[light].emission);
+    }
+#endif
+
+#ifndef LIGHT_TRACING
+    Bsdf bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], woL, hit.frontSide);
+    bool alive = path_fits(depth + 1, params->maxPathLength) && !bsdf_is_black(&bsdf);
+    float cont = continuation_probability(&bsdf);
+#ifdef PPM
+    alive = alive && !bsdf_has_nondelta(&bsdf);
+#endif
+
+#ifndef VERTEX_MERGING_ONLY
+    if (alive && b->scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
+        float4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 0u);
+        LightSample ls;
+        if (sample_light(b->lights, b->lightCdf, b->triVertices, b->scene, hit.p, u.xyz, &ls)) {
+            float3 wiL = to_local(&hit.frame, ls.direction);
+            if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
+                float pdfFwd, pdfRev;
+                float3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfFwd, &pdfRev);
+                float cosToLight = fabs(wiL.z);
+                float bsdfDirPdfW = ls.delta ? 0.0f : pdfFwd * cont;
+                float bsdfRevPdfW = pdfRev * cont;
+                float w = mis_weight_nee(mis, bsdfDirPdfW, bsdfRevPdfW, ls.directPdfW, ls.emissionPdfW, cosToLight,
+                                         ls.cosAtLight, params->vmWeightFactor);
+                float3 contribution = beta * f * ls.radiance * (w * cosToLight / ls.pdf);
+                if (max_component(f) > 0.0f && accept_finite(contribution, b->queueCounters)) {
+                    store_ray(b->shadowOrigins, b->shadowDirections, slot,
+                              shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));
+                    b->shadowContribution[slot] = (float4)(contribution, 0.0f);
+                    r.shadowRay = 1;
+                }
+            }
+        }
+    }
+#endif
+
+    if (alive) {
+        float4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 1u);
+        Scatter s;
+        alive = continue_bidirectional(&bsdf, &hit, wo, woL, u, false, cont, params, &mis, &beta, &s) &&
+                store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth);
+        if (alive) {
+            store_mis(b->pathMis, slot, mis);
+            if (!s.delta)
+                b->pathFlags[slot] = 0;
+        }
+    }
+    r.alive = alive ? 1 : 0;
+#endif
+    add_radiance(b->pixelRadiance, pixel, L, b->queueCounters);
+    return r;
+}
+
+__kernel void shade_bidirectional(RENDER_KERNEL_PARAMS)
+{
+    __local int scratch[8];
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
+    CameraHitResult r = {0, 0};
+    if (slot >= 0)
+        r = shade_camera_hit(&b, &params, slot);
+    queue_push4(queueItems, queueCounters, params.capacity,
+                (int4)(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
+                (int4)(r.shadowRay, r.alive, slot >= 0 && !r.alive, 0), slot, scratch);
+}

@@ -1,0 +1,138 @@
+/* shade_light (`-a lt`, `-a bpt`): at every hit of a light sub-path, in
+ * order (SmallVCM's light pass, vertexcm.hxx),
+ *   1. convert the MIS quantities of the last segment to area measure;
+ *   2. at a vertex with a non-delta BSDF: store it in the light-vertex buffer
+ *      for vertex connection (bpt), and connect it to the camera (t = 1):
+ *      queue a shadow ray whose contribution `connect_splat` adds to the
+ *      pixel the vertex projects to;
+ *   3. sample the adjoint BSDF to continue, with Russian roulette by the
+ *      material's continuation probability, or end the path.
+ * Light paths carry importance: BSDFs are evaluated in their adjoint form,
+ * with Veach's shading-normal correction. Path length as in path_state.h:
+ * a vertex of depth d connects to the camera if d + 1 segments fit, and is
+ * only worth continuing from if a path through the next vertex (d + 2
+ * segments, the camera connection included) fits. */
+#include "core/queues.h"
+#include "core/rng.h"
+#include "geometry/surface.h"
+#include "interface/inline.h"
+#include "lights/camera.h"
+#include "lights/lights.h"
+#include "materials/bsdf.h"
+#include "transport/continue_path.h"
+#include "transport/mis.h"
+#include "transport/path_state.h"
+
+/* int, not bool, flags: rusticl (Mesa 22.3) loses bool members of a struct
+ * returned from a function. */
+typedef struct LightHitResult {
+    int alive, shadowRay, storeVertex;
+    LightVertex vertex;
+} LightHitResult;
+
+INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams* params, int slot)
+{
+    LightHitResult r;
+    r.alive = r.shadowRay = r.storeVertex = 0;
+    float3 beta = b->pathThroughput[slot].xyz;
+    if (!(max_component(beta) > 0.0f))
+        return r; /* a failed emission sample */
+    int tri = b->hitTriangle[slot];
+    float2 bary = b->hitBary[slot];
+    float3 wLight = -b->rayDirections[slot].xyz; /* back along the light path */
+    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, bary, wLight);
+    float3 wLightL = to_local(&hit.frame, wLight);
+    int depth = hit_depth(b->pathDepth, slot);
+    int lightPath = b->pathPixel[slot];
+    PathMis mis = load_mis(b->pathMis, slot);
+    mis_at_hit(&mis, b->hitT[slot], fabs(wLightL.z), depth > 1 || (b->pathFlags[slot] & PATH_FINITE_LIGHT));
+    Bsdf bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], wLightL, hit.frontSide);
+    if (bsdf_is_black(&bsdf))
+        return r;
+    float cont = continuation_probability(&bsdf);
+
+    if (bsdf_has_nondelta(&bsdf)) {
+        if (params->storeVertices) {
+            r.storeVertex = 1;
+            LightVertex* v = &r.vertex;
+            vstore3(hit.p, 0, v->position);
+            vstore3(beta, 0, v->throughput);
+            vstore3(wLight, 0, v->toLight);
+            v->dVCM = mis.dVCM;
+            v->dVC = mis.dVC;
+            v->dVM = mis.dVM;
+            v->pathLength = depth;
+            v->triangle = tri;
+            v->b1 = bary.x;
+            v->b2 = bary.y;
+            v->continuation = cont;
+        }
+        if (params->connectToCamera && path_fits(depth + 1, params->maxPathLength)) {
+            float3 cameraPosition = vload3(0, b->camera->position);
+            float3 toCamera = cameraPosition - hit.p;
+            float dist2 = dot(toCamera, toCamera);
+            toCamera *= rsqrt(dist2);
+            float3 toCameraL = to_local(&hit.frame, toCamera);
+            int pixel = camera_pixel(b->camera, hit.p);
+            if (pixel >= 0 && sides_agree(&hit, toCamera, toCameraL)) {
+                float pdfFwd, pdfRev;
+                float3 f = bsdf_eval(&bsdf, wLightL, toCameraL, true, &pdfFwd, &pdfRev) *
+                           adjoint_shading_correction(&hit, wLight, toCamera);
+                /* Density of the camera sampling this point, per unit area. */
+                float cameraPdfA = camera_pdf_w(b->camera, -toCamera) * fabs(toCameraL.z) / dist2;
+                float w = 1.0f; /* lt: the only technique for these paths */
+#ifndef LIGHT_TRACING
+                w = mis_weight_light_to_camera(mis, cameraPdfA, params->lightTracePaths, pdfRev * cont, params->vmWeightFactor);
+#endif
+                float3 contribution = w * beta * f * (cameraPdfA / params->lightTracePaths);
+                if (accept_finite(contribution, b->queueCounters) && max_component(contribution) > 0.0f) {
+                    store_ray(b->shadowOrigins, b->shadowDirections, slot,
+                              ray_between(hit.p, hit.pError, hit.ngF, cameraPosition, (float3)(0.0f), -toCamera));
+                    b->shadowContribution[slot] = (float4)(contribution, 0.0f);
+                    b->shadowPixel[slot] = pixel;
+                    r.shadowRay = 1;
+                }
+            }
+        }
+    }
+
+    if (!path_fits(depth + 2, params->maxPathLength))
+        return r; /* the next vertex could not even connect to the camera */
+    float4 u = rng_uniform4(params->seed, params->iteration, (uint)lightPath, (uint)depth, 3u);
+    Scatter s;
+    if (!continue_bidirectional(&bsdf, &hit, wLight, wLightL, u, true, cont, params, &mis, &beta, &s) ||
+        !store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth))
+        return r;
+    store_mis(b->pathMis, slot, mis);
+    r.alive = 1;
+    return r;
+}
+
+__kernel void shade_light(RENDER_KERNEL_PARAMS)
+{
+    __local int scratch[8];
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
+    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
+    LightHitResult r;
+    r.alive = r.shadowRay = r.storeVertex = 0;
+    if (slot >= 0)
+        r = shade_light_hit(&b, &params, slot);
+    /* One reservation for the three queues and the light vertices. The
+     * vertex counter keeps counting past the buffer's end, so the host sees
+     * how many vertices were wanted and can retry with room for them. */
+    int4 queues = (int4)(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, COUNTER_LIGHT_VERTICES);
+    int4 at = group_allocate4(queueCounters, queues,
+                              (int4)(r.shadowRay, r.alive, slot >= 0 && !r.alive, r.storeVertex), scratch);
+    if (at.x >= 0)
+        queueItems[queues.x * params.capacity + at.x] = slot;
+    if (at.y >= 0)
+        queueItems[queues.y * params.capacity + at.y] = slot;
+    if (at.z >= 0)
+        queueItems[queues.z * params.capacity + at.z] = slot;
+    if (at.w >= 0 && at.w < params.vertexCapacity) {
+        r.vertex.prev = pathLastVertex[slot];
+        lightVertices[at.w] = r.vertex;
+        pathLastVertex[slot] = at.w;
+        lightPathHead[pathPixel[slot] - params.firstLightPath] = at.w;
+    }
+}

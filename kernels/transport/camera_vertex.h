@@ -1,0 +1,35 @@
+/* A camera sub-path vertex as vertex connection and merging see it: the
+ * surface, the BSDF seen from the camera side, and the MIS quantities
+ * converted to area measure at this hit (shared by connect_vertices and merge). */
+#ifndef WAVEVCM_CAMERA_VERTEX_H
+#define WAVEVCM_CAMERA_VERTEX_H
+
+#include "geometry/surface.h"
+#include "interface/inline.h"
+#include "interface/kernel_interface.h"
+#include "materials/bsdf.h"
+#include "mis.h"
+
+typedef struct CameraVertex {
+    SurfaceHit hit;
+    float3 woL; /* towards the camera, local frame */
+    Bsdf bsdf;
+    PathMis mis;
+    float continuation;
+} CameraVertex;
+
+INLINE CameraVertex camera_vertex(const RenderBuffers* b, int slot)
+{
+    CameraVertex v;
+    int tri = b->hitTriangle[slot];
+    float3 wo = -b->rayDirections[slot].xyz;
+    v.hit = surface_hit(b->triVertices, b->triNormals, tri, b->hitBary[slot], wo);
+    v.woL = to_local(&v.hit.frame, wo);
+    v.bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], v.woL, v.hit.frontSide);
+    v.mis = load_mis(b->pathMis, slot);
+    mis_at_hit(&v.mis, b->hitT[slot], fabs(v.woL.z), true);
+    v.continuation = continuation_probability(&v.bsdf);
+    return v;
+}
+
+#endif

@@ -1,0 +1,87 @@
+/* Continuing a sub-path from a vertex, written once for camera paths (pt and
+ * the bidirectional algorithms) and light paths: the BSDF sample (scatter),
+ * the bidirectional algorithms' Russian roulette and MIS update
+ * (continue_bidirectional), and storing the next segment with the NaN policy
+ * (store_continuation). pt's own Russian roulette is in shade.cl. */
+#ifndef WAVEVCM_CONTINUE_PATH_H
+#define WAVEVCM_CONTINUE_PATH_H
+
+#include "core/nan_policy.h"
+#include "geometry/surface.h"
+#include "interface/inline.h"
+#include "interface/kernel_interface.h"
+#include "materials/bsdf.h"
+#include "mis.h"
+#include "path_state.h"
+
+typedef struct Scatter {
+    float3 wi;     /* the sampled direction, world space */
+    float3 weight; /* f·|cos θi|/pdf; light paths: adjoint form with Veach's shading-normal correction */
+    float pdfW;    /* solid-angle pdf of wi (a delta lobe: its selection probability) */
+    float revPdfW; /* pdf of sampling wo from wi (= pdfW for a delta lobe) */
+    float cosIn;   /* |cos θi| at the shading normal */
+    int delta;
+    int refracted; /* crossed into or out of a solid: radiance carries 1/η² */
+} Scatter;
+
+/* Samples the BSDF at `hit`, wo pointing back along the path (woL in the
+ * shading frame); `adjoint` for light paths. Fails when the sample is void or
+ * wi lies on the other side of the geometric surface than its side of the
+ * shading frame says (sides_agree). `reverse`: evaluate revPdfW too (the
+ * bidirectional MIS needs it; pt does not). */
+INLINE bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, float3 woL, float3 u, bool adjoint,
+                           bool reverse, Scatter* s)
+{
+    BsdfSample bs;
+    if (!bsdf_sample(bsdf, woL, u, adjoint, &bs))
+        return false;
+    s->wi = to_world(&hit->frame, bs.wi);
+    if (!sides_agree(hit, s->wi, bs.wi))
+        return false;
+    s->weight = adjoint ? bs.weight * adjoint_shading_correction(hit, wo, s->wi) : bs.weight;
+    s->pdfW = bs.pdf;
+    s->revPdfW = bs.pdf;
+    if (reverse && !bs.delta) {
+        float fwd, rev;
+        bsdf_eval(bsdf, woL, bs.wi, adjoint, &fwd, &rev);
+        s->revPdfW = rev;
+    }
+    s->cosIn = fabs(bs.wi.z);
+    s->delta = bs.delta;
+    s->refracted = bsdf->refracts && bs.wi.z < 0.0f;
+    return true;
+}
+
+/* The bidirectional algorithms' continuation (SmallVCM's SampleScattering):
+ * scatter, survive Russian roulette with the material's continuation
+ * probability `cont` (u.w < cont; it is part of both pdfs, so of every MIS
+ * weight), update the MIS quantities (Georgiev's report, eqs. 34-36) and the
+ * throughput, β ← β · weight / cont. */
+INLINE bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, float3 woL, float4 u,
+                                          bool adjoint, float cont, const LaunchParams* params, PathMis* mis,
+                                          float3* beta, Scatter* s)
+{
+    if (!scatter(bsdf, hit, wo, woL, u.xyz, adjoint, true, s) || !(u.w < cont))
+        return false;
+    mis_after_scatter(mis, s->delta, s->cosIn, s->pdfW * cont, s->revPdfW * cont, params->vmWeightFactor,
+                      params->vcWeightFactor);
+    *beta *= s->weight / cont;
+    return true;
+}
+
+/* The next segment of path `slot`: from `hit` along wi, with throughput beta
+ * (w: pt's η² scale, else 0) and depth `depth` for the vertex it leaves.
+ * False, and nothing stored, when beta is zero or rejected by the NaN policy:
+ * the path ends. */
+INLINE bool store_continuation(const RenderBuffers* b, int slot, const SurfaceHit* hit, float3 wi,
+                                      float3 beta, float w, int depth)
+{
+    if (!accept_finite(beta, b->queueCounters) || !(max_component(beta) > 0.0f))
+        return false;
+    store_ray(b->rayOrigins, b->rayDirections, slot, spawn_ray(hit->p, hit->pError, hit->ngF, wi));
+    b->pathThroughput[slot] = (float4)(beta, w);
+    b->pathDepth[slot] = depth;
+    return true;
+}
+
+#endif

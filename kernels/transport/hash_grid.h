@@ -1,0 +1,60 @@
+/* The hash grid over light vertices (SmallVCM's hashgrid.hxx, on the
+ * device): cells of size 2r hashed into `cellCount` buckets; bucket b holds
+ * the vertices bucketPoints[bucketStarts[b], bucketStarts[b+1]), each as a
+ * float4 of its position and, in w, its index (as_float): a query rejects a
+ * candidate from 16 bytes before loading its 80-byte LightVertex. A query
+ * sphere of radius r around x lies within the 2×2×2 cells nearest x. */
+#ifndef WAVEVCM_HASH_GRID_H
+#define WAVEVCM_HASH_GRID_H
+
+#include "interface/inline.h"
+
+INLINE int3 grid_cell(float3 p, float cellSize)
+{
+    float3 c = floor(p / cellSize);
+    return (int3)((int)c.x, (int)c.y, (int)c.z);
+}
+
+/* Teschner et al.'s spatial hash, as in SmallVCM. */
+INLINE uint grid_bucket(int3 cell, uint cellCount)
+{
+    return (((uint)cell.x * 73856093u) ^ ((uint)cell.y * 19349663u) ^ ((uint)cell.z * 83492791u)) % cellCount;
+}
+
+/* The buckets of the 2×2×2 cells nearest x, with duplicates (two cells
+ * hashing to one bucket) replaced by -1 so no vertex is visited twice. */
+INLINE void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buckets[8])
+{
+    float3 scaled = x / cellSize;
+    float3 base = floor(scaled);
+    int3 c = (int3)((int)base.x, (int)base.y, (int)base.z);
+    float3 frac = scaled - base;
+    int3 o = (int3)(frac.x < 0.5f ? -1 : 1, frac.y < 0.5f ? -1 : 1, frac.z < 0.5f ? -1 : 1);
+    for (int i = 0; i < 8; ++i) {
+        int3 cell = c + (int3)((i & 1) ? o.x : 0, (i & 2) ? o.y : 0, (i & 4) ? o.z : 0);
+        int b = (int)grid_bucket(cell, cellCount);
+        for (int j = 0; j < i; ++j)
+            if (buckets[j] == b)
+                b = -1;
+        buckets[i] = b;
+    }
+}
+
+/* Whether any grid point of the query's buckets lies within sqrt(radius2) of x. */
+INLINE bool grid_any_within(__global const int* bucketStarts, __global const float4* bucketPoints,
+                                   const int buckets[8], float3 x, float radius2)
+{
+    for (int k = 0; k < 8; ++k) {
+        if (buckets[k] < 0)
+            continue;
+        int end = bucketStarts[buckets[k] + 1];
+        for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
+            float3 d = bucketPoints[j].xyz - x;
+            if (dot(d, d) <= radius2)
+                return true;
+        }
+    }
+    return false;
+}
+
+#endif

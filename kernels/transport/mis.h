@@ -1,0 +1,143 @@
+/* The recursive MIS quantities of vertex connection and merging (Georgiev,
+ * "Implementing Vertex Connection and Merging", tech. report 2012, §5; the
+ * equation numbers below are that report's). Every sub-path vertex carries
+ * dVCM, dVC and dVM, from which the balance-heuristic weight of any technique
+ * that ends at it costs O(1). Mis(x) = x: the balance heuristic, which keeps
+ * these ratios of pdfs within float range (a power heuristic squares them). */
+#ifndef WAVEVCM_MIS_H
+#define WAVEVCM_MIS_H
+
+#include "interface/inline.h"
+
+typedef struct PathMis {
+    float dVCM, dVC, dVM;
+} PathMis;
+
+INLINE PathMis load_mis(__global const float4* m, int slot)
+{
+    float4 v = m[slot];
+    PathMis r = {v.x, v.y, v.z};
+    return r;
+}
+
+INLINE void store_mis(__global float4* m, int slot, PathMis v) { m[slot] = (float4)(v.dVCM, v.dVC, v.dVM, 0.0f); }
+
+/* Light sub-path start (eqs. 31-33; delta lights 48-50): directPdf is the
+ * density of next-event estimation choosing this point (area) or direction
+ * (infinite lights), emissionPdfW that of emitting this ray; cosine 1 for
+ * lights without a surface. */
+INLINE PathMis mis_light_start(float directPdf, float emissionPdfW, float cosAtLight, bool finite, bool delta,
+                               float vcWeightFactor)
+{
+    PathMis m;
+    m.dVCM = directPdf / emissionPdfW;
+    m.dVC = delta ? 0.0f : (finite ? cosAtLight : 1.0f) / emissionPdfW;
+    m.dVM = m.dVC * vcWeightFactor;
+    return m;
+}
+
+/* Camera sub-path start: light tracing (t = 1) has lightPaths samples per
+ * pixel; cameraPdfW is the camera's density of the primary direction. */
+INLINE PathMis mis_camera_start(float lightPaths, float cameraPdfW)
+{
+    PathMis m = {lightPaths / cameraPdfW, 0.0f, 0.0f};
+    return m;
+}
+
+/* At a new hit at distance `dist`, seen at |cos| `cosHit` from the incoming
+ * direction (shading normal): convert the pdfs of the last segment to area
+ * measure. The first segment of a path from an infinite light has no
+ * distance (§5.1). */
+INLINE void mis_at_hit(PathMis* m, float dist, float cosHit, bool convertDistance)
+{
+    if (convertDistance)
+        m->dVCM *= dist * dist;
+    float inv = 1.0f / cosHit;
+    m->dVCM *= inv;
+    m->dVC *= inv;
+    m->dVM *= inv;
+}
+
+/* After sampling a new direction with solid-angle pdf pdfW (continuation
+ * probability included), reverse pdf revPdfW, and |cos| cosOut at this
+ * vertex (eqs. 34-36; specular vertices 53-55). */
+INLINE void mis_after_scatter(PathMis* m, bool delta, float cosOut, float pdfW, float revPdfW, float vmWeightFactor,
+                              float vcWeightFactor)
+{
+    if (delta) {
+        m->dVCM = 0.0f;
+        m->dVC *= cosOut;
+        m->dVM *= cosOut;
+        return;
+    }
+    float ratio = cosOut / pdfW;
+    float dVC = ratio * (m->dVC * revPdfW + m->dVCM + vmWeightFactor);
+    float dVM = ratio * (m->dVM * revPdfW + m->dVCM * vcWeightFactor + 1.0f);
+    m->dVC = dVC;
+    m->dVM = dVM;
+    m->dVCM = 1.0f / pdfW;
+}
+
+/* The weights. Each is 1 / (1 + Σ p_other / p_this) over the techniques
+ * that could have sampled the same path, read from the MIS quantities of the
+ * sub-path vertices that this technique joins. Densities carry the
+ * continuation probability of Russian roulette wherever they involve a
+ * scattering event. */
+
+/* A camera path (state `camera`, at the hit) finding an emitter whose
+ * next-event density (area, or solid angle for the background) is
+ * directPdf and whose emission density for the ray is emissionPdfW
+ * (eqs. 42-43). */
+INLINE float mis_weight_emission_hit(PathMis camera, float directPdf, float emissionPdfW)
+{
+    return 1.0f / (1.0f + directPdf * camera.dVCM + emissionPdfW * camera.dVC);
+}
+
+/* Next-event estimation from a camera vertex: bsdfDirPdfW is the density of
+ * the BSDF sampling the light's direction (0 for delta lights), bsdfRevPdfW
+ * that of the reverse direction; directPdfW, emissionPdfW and cosAtLight as
+ * in LightSample (eqs. 44-45). */
+INLINE float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdfRevPdfW, float directPdfW,
+                            float emissionPdfW, float cosToLight, float cosAtLight, float vmWeightFactor)
+{
+    float wLight = bsdfDirPdfW / directPdfW;
+    float wCamera = emissionPdfW * cosToLight / (directPdfW * cosAtLight) *
+                    (vmWeightFactor + camera.dVCM + camera.dVC * bsdfRevPdfW);
+    return 1.0f / (wLight + 1.0f + wCamera);
+}
+
+/* A light vertex connected to the camera (t = 1): cameraPdfA is the camera's
+ * density of sampling the vertex (per unit area), lightPaths the light paths
+ * per iteration, bsdfRevPdfW the light vertex's density of sampling its
+ * incoming direction from the camera's (eqs. 46-47). */
+INLINE float mis_weight_light_to_camera(PathMis light, float cameraPdfA, float lightPaths, float bsdfRevPdfW,
+                                        float vmWeightFactor)
+{
+    float wLight = cameraPdfA / lightPaths * (vmWeightFactor + light.dVCM + light.dVC * bsdfRevPdfW);
+    return 1.0f / (wLight + 1.0f);
+}
+
+/* A camera vertex connected to a light vertex: cameraDirPdfA is the camera
+ * vertex's BSDF density of the light vertex (area), lightDirPdfA the light
+ * vertex's of the camera vertex; the reverse densities are solid angle
+ * (eqs. 40-41, 37). */
+INLINE float mis_weight_connection(PathMis light, PathMis camera, float cameraDirPdfA, float lightDirPdfA,
+                                   float lightRevPdfW, float cameraRevPdfW, float vmWeightFactor)
+{
+    float wLight = cameraDirPdfA * (vmWeightFactor + light.dVCM + light.dVC * lightRevPdfW);
+    float wCamera = lightDirPdfA * (vmWeightFactor + camera.dVCM + camera.dVC * cameraRevPdfW);
+    return 1.0f / (wLight + 1.0f + wCamera);
+}
+
+/* A camera vertex merged with a light vertex: cameraDirPdfW is the camera
+ * BSDF's density of the light vertex's incoming direction, cameraRevPdfW
+ * the reverse (eqs. 37-39). */
+INLINE float mis_weight_merge(PathMis light, PathMis camera, float cameraDirPdfW, float cameraRevPdfW,
+                              float vcWeightFactor)
+{
+    float wLight = light.dVCM * vcWeightFactor + light.dVM * cameraDirPdfW;
+    float wCamera = camera.dVCM * vcWeightFactor + camera.dVM * cameraRevPdfW;
+    return 1.0f / (wLight + 1.0f + wCamera);
+}
+
+#endif

@@ -1,0 +1,50 @@
+/* Path state in structure-of-arrays form: one array per field, indexed by
+ * path slot (the fields are declared in kernel_interface.h). Rays pack tMax
+ * into direction.w.
+ *
+ * Path length, one convention for camera and light sub-paths alike: a full
+ * path's length is its number of segments, the camera's first included (a
+ * light seen directly has length 1), at most maxPathLength. A sub-path
+ * vertex's depth is the number of segments from its sub-path's start (camera
+ * or light) to it. pathDepth holds the segments traced before the current
+ * ray, so the vertex that ray finds has depth pathDepth + 1 (hit_depth). A
+ * camera vertex of depth s and a light vertex of depth t make a full path of
+ *   s       segments by an emission hit (or escape) there,
+ *   s + 1   by next-event estimation from it,
+ *   s + t + 1 by a connection (the connecting segment),
+ *   s + t   by a merge (the two vertices become one),
+ *   t + 1   by connecting the light vertex to the camera. */
+#ifndef WAVEVCM_PATH_STATE_H
+#define WAVEVCM_PATH_STATE_H
+
+#include "core/ray.h"
+#include "interface/inline.h"
+#include "interface/kernel_interface.h"
+
+/* Bits of pathFlags. */
+#define PATH_FINITE_LIGHT 1 /* a light path from a light with a position */
+#define PATH_SPECULAR 2     /* a camera path with only delta scattering so far */
+
+/* Depth of the vertex the current ray of `slot` finds (or of the segment it escapes along). */
+INLINE int hit_depth(__global const int* pathDepth, int slot) { return pathDepth[slot] + 1; }
+
+/* Whether a full path of `segments` segments is within the limit. */
+INLINE bool path_fits(int segments, int maxPathLength) { return segments <= maxPathLength; }
+
+INLINE Ray load_ray(__global const float4* origins, __global const float4* directions, int slot)
+{
+    float4 o = origins[slot], d = directions[slot];
+    Ray r;
+    r.origin = o.xyz;
+    r.direction = d.xyz;
+    r.tMax = d.w;
+    return r;
+}
+
+INLINE void store_ray(__global float4* origins, __global float4* directions, int slot, Ray r)
+{
+    origins[slot] = (float4)(r.origin, 0.0f);
+    directions[slot] = (float4)(r.direction, r.tMax);
+}
+
+#endif
