@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
+#include <thread>
 
 namespace wv {
 namespace {
@@ -14,6 +16,9 @@ constexpr float kTraversalCost = 1.0f;   // relative to one triangle test
 // Past this depth splits are object medians, which halve the count and so
 // finish within log2(n) <= 31 more levels: depth stays within kMaxBvhDepth.
 constexpr int kMedianSplitDepth = 32;
+// Below a split of at least this many triangles, near the root, the two
+// subtrees are built on two threads.
+constexpr uint32_t kParallelMinTriangles = 16384;
 
 struct BuildTriangle {
     Bounds bounds;
@@ -23,7 +28,9 @@ struct BuildTriangle {
 
 class Builder {
 public:
-    explicit Builder(std::vector<BuildTriangle>& tris) : tris_(tris) {}
+    // Subtrees at depth < parallelDepth are built in parallel: 2^parallelDepth
+    // threads at most. The tree is the same for any parallelDepth.
+    Builder(std::vector<BuildTriangle>& tris, int parallelDepth) : tris_(tris), parallelDepth_(parallelDepth) {}
 
     void build(Bvh& bvh)
     {
@@ -52,6 +59,21 @@ private:
         if (mid == begin) { // leaf
             n.offset = int(begin);
             n.primCount = uint16_t(count);
+        } else if (depth < parallelDepth_ && count >= kParallelMinTriangles) {
+            // The two subtrees (disjoint ranges of tris_) on two threads, each
+            // into a node list of its own, then appended in depth-first order.
+            n.axis = uint16_t(splitAxis_);
+            std::vector<BvhNode> left, right;
+            Builder leftBuilder(tris_, parallelDepth_), rightBuilder(tris_, parallelDepth_);
+            leftBuilder.nodes_ = &left;
+            rightBuilder.nodes_ = &right;
+            std::future<void> done =
+                std::async(std::launch::async, [&] { leftBuilder.node(begin, mid, depth + 1); });
+            rightBuilder.node(mid, end, depth + 1);
+            done.get();
+            maxDepth_ = std::max({maxDepth_, leftBuilder.maxDepth_, rightBuilder.maxDepth_});
+            append(left);
+            n.offset = append(right);
         } else {
             n.axis = uint16_t(splitAxis_);
             node(begin, mid, depth + 1);
@@ -59,6 +81,18 @@ private:
         }
         (*nodes_)[index] = n;
         return index;
+    }
+
+    // Appends a subtree built with indices from 0, moving its interior nodes'
+    // second-child indices by where it lands; returns the index of its root.
+    int append(const std::vector<BvhNode>& subtree)
+    {
+        int base = int(nodes_->size());
+        for (BvhNode n : subtree) {
+            if (n.primCount == 0) n.offset += base;
+            nodes_->push_back(n);
+        }
+        return base;
     }
 
     // Partitions [begin, end) and returns the split point, or begin for a leaf.
@@ -133,6 +167,7 @@ private:
 
     std::vector<BuildTriangle>& tris_;
     std::vector<BvhNode>* nodes_ = nullptr;
+    int parallelDepth_ = 0;
     int maxDepth_ = 0;
     int splitAxis_ = 0;
 };
@@ -153,7 +188,12 @@ Bvh buildBvh(const std::vector<Vec3>& vertices)
     }
     Bvh bvh;
     bvh.nodes.reserve(2 * count);
-    Builder(tris).build(bvh);
+    // Two levels more than the cores need: splits near the root are often
+    // uneven, and more, smaller subtrees balance the cores.
+    int parallelDepth = 2;
+    for (unsigned threads = std::max(1u, std::thread::hardware_concurrency()); (1u << (parallelDepth - 2)) < threads;)
+        ++parallelDepth;
+    Builder(tris, parallelDepth).build(bvh);
     bvh.triangleOrder.resize(count);
     for (size_t i = 0; i < count; ++i) bvh.triangleOrder[i] = tris[i].index;
     bvh.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
