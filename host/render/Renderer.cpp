@@ -108,8 +108,8 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     localSize_ = std::min<size_t>(64, device.info.maxWorkGroupSize);
     profiling_ = (device.queue.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0;
 
-    // What holds for the whole render; the rest is set per batch and round.
-    // Without merging the VM weights vanish (Georgiev's report, eq. 20 with η_VCM unused).
+    // What holds for the whole render; the rest is set per batch
+    // (setBatchConstants) and per round.
     params_.capacity = paths_.capacity;
     params_.seed = settings.seed;
     params_.maxPathLength = settings.maxPathLength;
@@ -391,7 +391,8 @@ Image Renderer::image()
 uint64_t Renderer::nonFiniteCount()
 {
     int count = 0;
-    device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE, size_t(COUNTER_INDEX(COUNTER_NONFINITE)) * sizeof(int),
+    device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE,
+                                    size_t(COUNTER_INDEX(COUNTER_NONFINITE)) * sizeof(int),
                                     sizeof count, &count);
     return uint64_t(uint32_t(count));
 }

@@ -133,8 +133,9 @@ bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
     return true;
 }
 
-// glTF 1.0 files (string ids, techniques) parse as nothing useful or fail
-// with a message about some field: say what they are instead.
+// After a failed parse: a glTF 1.0 file (string ids, techniques) fails with
+// a message about some field; say what it is instead. (One that parses is
+// caught by its asset.version.) Reads the file again only on this path.
 void Loader::checkVersion(bool binary)
 {
     std::ifstream in(path_, std::ios::binary);
@@ -168,15 +169,16 @@ void Loader::load()
     std::string err, warn;
     std::string ext = fs::path(path_).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    checkVersion(ext == ".glb");
     bool ok = false;
     try {
         ok = ext == ".glb" ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_)
                            : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
     } catch (const std::exception& e) {
+        checkVersion(ext == ".glb");
         fail(std::string("cannot parse glTF: ") + e.what());
     }
     if (!ok || !err.empty()) {
+        checkVersion(ext == ".glb");
         while (!err.empty() && err.back() == '\n') err.pop_back();
         fail("cannot parse glTF: " + (err.empty() ? std::string("unknown error") : err));
     }
@@ -184,6 +186,8 @@ void Loader::load()
         while (!warn.empty() && warn.back() == '\n') warn.pop_back();
         this->warn("tinygltf: " + warn);
     }
+    if (!model_.asset.version.empty() && model_.asset.version[0] == '1')
+        fail("glTF " + model_.asset.version + " is not supported (only glTF 2.0): convert the file to glTF 2.0");
     checkExtensions();
     loadMaterials();
     visitNodes();
