@@ -28,11 +28,6 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;
-    SurfaceHit hit = cv.hit;
-    float3 woL = cv.woL;
-    Bsdf bsdf = cv.bsdf;
-    PathMis mis = cv.mis;
-    float contCamera = cv.continuation;
     float3 beta = pathThroughput[slot].xyz;
     int pixel = pathPixel[slot];
 
@@ -43,20 +38,20 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
             continue; /* vertices go from the deepest back: shallower ones may still fit */
         float3 toLight = vload3(0, lv->toLight);
         SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, (float2)(lv->b1, lv->b2), toLight);
-        if (!connection_resolved(hit.p, hit.pError, hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF))
+        if (!connection_resolved(cv.hit.p, cv.hit.pError, cv.hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF))
             continue;
-        float3 d = lightHit.p - hit.p;
+        float3 d = lightHit.p - cv.hit.p;
         float dist2 = dot(d, d);
         if (!(dist2 > 0.0f))
             continue;
         float dist = sqrt(dist2);
         d /= dist;
-        float3 dL = to_local(&hit.frame, d);
+        float3 dL = to_local(&cv.hit.frame, d);
         float3 backL = to_local(&lightHit.frame, -d);
-        if (!sides_agree(&hit, d, dL) || !sides_agree(&lightHit, -d, backL))
+        if (!sides_agree(&cv.hit, d, dL) || !sides_agree(&lightHit, -d, backL))
             continue;
         float cameraFwd, cameraRev, lightFwd, lightRev;
-        float3 fCamera = bsdf_eval(&bsdf, woL, dL, false, &cameraFwd, &cameraRev);
+        float3 fCamera = bsdf_eval(&cv.bsdf, cv.woL, dL, false, &cameraFwd, &cameraRev);
         float3 toLightL = to_local(&lightHit.frame, toLight);
         Bsdf lightBsdf = make_bsdf(&materials[triMaterials[lv->triangle]], toLightL, lightHit.frontSide);
         float3 fLight = bsdf_eval(&lightBsdf, toLightL, backL, true, &lightFwd, &lightRev) *
@@ -64,22 +59,21 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
         if (!(max_component(fCamera) > 0.0f && max_component(fLight) > 0.0f))
             continue;
         float contLight = continuation_probability(&lightBsdf);
-        cameraFwd *= contCamera;
-        cameraRev *= contCamera;
+        cameraFwd *= cv.continuation;
+        cameraRev *= cv.continuation;
         lightFwd *= contLight;
         lightRev *= contLight;
         float cosCamera = fabs(dL.z), cosLight = fabs(backL.z);
         float geometry = cosCamera * cosLight / dist2;
         PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
-        float w = mis_weight_connection(lightMis, mis, cameraFwd * cosLight / dist2, lightFwd * cosCamera / dist2,
-                                        lightRev, cameraRev, params.vmWeightFactor);
+        float w = mis_weight_connection(lightMis, cv.mis, cameraFwd * cosLight / dist2,
+                                        lightFwd * cosCamera / dist2, lightRev, cameraRev, params.vmWeightFactor);
         float3 c = (w * geometry) * beta * fCamera * fLight * vload3(0, lv->throughput);
         if (!accept_finite(c, queueCounters))
             continue;
         Hit occluder;
-        if (!trace_ray(nodes, triVertices,
-                       ray_between(hit.p, hit.pError, hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF), true,
-                       &occluder))
+        Ray shadow = ray_between(cv.hit.p, cv.hit.pError, cv.hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF);
+        if (!trace_ray(nodes, triVertices, shadow, true, &occluder))
             L += c;
     }
     add_radiance(connectionRadiance, pixel, L, queueCounters);

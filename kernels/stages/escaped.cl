@@ -36,6 +36,7 @@ __kernel void escaped(RENDER_KERNEL_PARAMS)
                      queueCounters);
     }
 #endif
-    queue_push4(queueItems, queueCounters, params.capacity, (int4)(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER),
-                (int4)(slot >= 0, 0, 0, 0), slot, scratch);
+    queue_push4(queueItems, queueCounters, params.capacity,
+                (int4)(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), (int4)(slot >= 0, 0, 0, 0), slot,
+                scratch);
 }

@@ -35,11 +35,6 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;
-    SurfaceHit hit = cv.hit;
-    float3 woL = cv.woL;
-    Bsdf bsdf = cv.bsdf;
-    PathMis mis = cv.mis;
-    float contCamera = cv.continuation;
     int depth = hit_depth(pathDepth, slot);
 
     float3 sum = (float3)(0.0f);
@@ -49,7 +44,7 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
         int end = bucketStarts[buckets[k] + 1];
         for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
             float4 point = bucketPoints[j];
-            float3 d = point.xyz - hit.p;
+            float3 d = point.xyz - cv.hit.p;
             if (dot(d, d) > radius2)
                 continue;
             __global const LightVertex* lv = &lightVertices[as_int(point.w)];
@@ -57,17 +52,18 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
                 continue;
             /* The light arrives along the light vertex's incoming direction. */
             float3 toLight = vload3(0, lv->toLight);
-            float3 toLightL = to_local(&hit.frame, toLight);
-            if (!sides_agree(&hit, toLight, toLightL))
+            float3 toLightL = to_local(&cv.hit.frame, toLight);
+            if (!sides_agree(&cv.hit, toLight, toLightL))
                 continue;
             float pdfFwd, pdfRev;
-            float3 f = bsdf_eval(&bsdf, woL, toLightL, false, &pdfFwd, &pdfRev);
+            float3 f = bsdf_eval(&cv.bsdf, cv.woL, toLightL, false, &pdfFwd, &pdfRev);
             if (!(max_component(f) > 0.0f))
                 continue;
             float w = 1.0f;
 #ifndef PPM
             PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
-            w = mis_weight_merge(lightMis, mis, pdfFwd * contCamera, pdfRev * lv->continuation, params.vcWeightFactor);
+            w = mis_weight_merge(lightMis, cv.mis, pdfFwd * cv.continuation, pdfRev * lv->continuation,
+                                 params.vcWeightFactor);
 #endif
             sum += w * f * vload3(0, lv->throughput);
         }

@@ -40,12 +40,12 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
     int light = b->triangleLight[tri];
     float cosLight = dot(wo, hit.ngF);
     if (light >= 0 && hit.frontSide) {
+        __global const Light* l = &b->lights[light];
         float prevPdf = b->pathPrevPdf[slot];
         float w = 1.0f;
         if (prevPdf > 0.0f)
-            w = power_heuristic(prevPdf,
-                                triangle_light_pdf(b->lights[light].pmf, b->lights[light].area, b->hitT[slot], cosLight));
-        L += w * beta * vload3(0, b->lights[light].emission);
+            w = power_heuristic(prevPdf, triangle_light_pdf(l->pmf, l->area, b->hitT[slot], cosLight));
+        L += w * beta * vload3(0, l->emission);
     }
 #endif
 

@@ -52,7 +52,8 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 #else
         if (depth > 1) {
             float directPdfA, emissionPdfW;
-            triangle_hit_pdfs(b->lights[light].pmf, b->lights[light].area, dot(wo, hit.ngF), &directPdfA, &emissionPdfW);
+            triangle_hit_pdfs(b->lights[light].pmf, b->lights[light].area, dot(wo, hit.ngF), &directPdfA,
+                              &emissionPdfW);
             w = mis_weight_emission_hit(mis, directPdfA, emissionPdfW);
         }
 #endif

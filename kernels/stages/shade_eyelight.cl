@@ -18,6 +18,7 @@ __kernel void shade_eyelight(RENDER_KERNEL_PARAMS)
         float value = fabs(dot(normalize(rayDirections[slot].xyz), n));
         pixelRadiance[pathPixel[slot]] += (float4)(value, value, value, 0.0f);
     }
-    queue_push4(queueItems, queueCounters, params.capacity, (int4)(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER),
-                (int4)(slot >= 0, 0, 0, 0), slot, scratch);
+    queue_push4(queueItems, queueCounters, params.capacity,
+                (int4)(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), (int4)(slot >= 0, 0, 0, 0), slot,
+                scratch);
 }

@@ -82,7 +82,8 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
                 float cameraPdfA = camera_pdf_w(b->camera, -toCamera) * fabs(toCameraL.z) / dist2;
                 float w = 1.0f; /* lt: the only technique for these paths */
 #ifndef LIGHT_TRACING
-                w = mis_weight_light_to_camera(mis, cameraPdfA, params->lightTracePaths, pdfRev * cont, params->vmWeightFactor);
+                w = mis_weight_light_to_camera(mis, cameraPdfA, params->lightTracePaths, pdfRev * cont,
+                                               params->vmWeightFactor);
 #endif
                 float3 contribution = w * beta * f * (cameraPdfA / params->lightTracePaths);
                 if (accept_finite(contribution, b->queueCounters) && max_component(contribution) > 0.0f) {
