@@ -11,10 +11,13 @@
 #include "render/SceneBuffers.h"
 #include "scene/GltfLoader.h"
 
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <random>
 
 namespace wv {
@@ -73,8 +76,13 @@ public:
     Tracer(const DeviceInfo& info, const Scene& scene)
         : device_(info), bvh_(buildBvh(scene.vertices)), buffers_(device_, scene, bvh_, buildLightTable(scene, bvh_)),
           program_(test::buildTestProgram(device_, {"stages/extend.cl", test::testKernel("trace_tests.cl")})),
-          triangleCount_(int(scene.triangleCount()))
+          allTriangleCount_(0)
     {
+        // Every triangle in BVH order, for the brute-force reference.
+        std::vector<TrianglePacket> all =
+            packTriangles(scene.vertices, bvh_.triangleOrder, 0, uint32_t(scene.triangleCount()));
+        allTriangleCount_ = all.size();
+        allTriangles_ = uploadBuffer(device_, all.data(), all.size() * sizeof(TrianglePacket), "all triangles");
     }
 
     const Bvh& bvh() const { return bvh_; }
@@ -87,7 +95,7 @@ public:
         Inputs in(device_, rays);
         cl::Buffer occluded = deviceBuffer(device_, rays.size() * 4, "occlusion");
         cl::Kernel k(program_, "any_hit");
-        setArgs(k, buffers_.nodes, buffers_.triVertices, in.origins, in.directions, int(rays.size()), occluded);
+        setArgs(k, buffers_.nodes, buffers_.trianglePackets, in.origins, in.directions, int(rays.size()), occluded);
         device_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(rays.size())), cl::NDRange(64));
         std::vector<int> out(rays.size());
         device_.queue.enqueueReadBuffer(occluded, CL_TRUE, 0, out.size() * 4, out.data());
@@ -104,7 +112,7 @@ public:
         cl::Buffer d = uploadBuffer(device_, directions.data(), n * 16, "directions");
         cl::Buffer t = deviceBuffer(device_, n * 4, "t"), tri = deviceBuffer(device_, n * 4, "tri");
         cl::Kernel k(program_, "spawn_and_trace");
-        setArgs(k, buffers_.nodes, buffers_.triVertices, src, b, d, int(n), t, tri);
+        setArgs(k, buffers_.nodes, buffers_.trianglePackets, buffers_.triVertices, src, b, d, int(n), t, tri);
         device_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(n)), cl::NDRange(64));
         return read(t, tri, n);
     }
@@ -156,6 +164,7 @@ private:
         if (kernel == "extend") {
             KernelBuffers b;
             b.nodes = buffers_.nodes;
+            b.trianglePackets = buffers_.trianglePackets;
             b.triVertices = buffers_.triVertices;
             b.queueItems = in.items;
             b.queueCounters = in.counters;
@@ -170,7 +179,7 @@ private:
             bindBuffers(k, b);
             setLaunchParams(k, params);
         } else
-            setArgs(k, buffers_.triVertices, triangleCount_, in.origins, in.directions, int(n), t, tri);
+            setArgs(k, allTriangles_, int(allTriangleCount_), in.origins, in.directions, int(n), t, tri);
         device_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(n)), cl::NDRange(64));
         return read(t, tri, n);
     }
@@ -179,7 +188,8 @@ private:
     Bvh bvh_;
     SceneBuffers buffers_;
     cl::Program program_;
-    int triangleCount_;
+    cl::Buffer allTriangles_;
+    size_t allTriangleCount_;
 };
 
 // Closest hits equal brute force bit for bit; where two triangles tie at the
@@ -283,53 +293,151 @@ void checkAgainstBruteForce(const Scene& scene, const RaySet& rays, const char* 
     }
 }
 
-// Every triangle in exactly one leaf, every node inside its parent, depth
-// within the traversal stack's bound; 3,600 vertices, and 300,000 (splits of
-// 16,384 triangles or more near the root build their subtrees on threads,
-// whose node lists are then spliced together).
-TEST(Bvh, StructureIsValid)
+// Checks the wide tree from its root: every node reached once, every child
+// box inside its parent's, empty slots never hit, every BVH position in
+// exactly one leaf lane with the right vertices inside its box, and no
+// traversal needing more than the kernels' stack. Returns the failures.
+int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v)
 {
-    for (int randomVertices : {3000, 300000}) {
-        SCOPED_TRACE(randomVertices);
-        std::mt19937 rng(7);
-        std::uniform_real_distribution<float> u(-10, 10);
-        std::vector<Vec3> v;
-        for (int i = 0; i < randomVertices; ++i) v.push_back(Vec3(u(rng), u(rng), u(rng)));
-        // Plus many identical triangles: centroids coincide and SAH cannot split.
-        for (int i = 0; i < 600; ++i) v.push_back(Vec3(float(i % 3), 0, 0));
-        Bvh bvh = buildBvh(v);
-        size_t triangles = v.size() / 3;
-        std::vector<int> seen(triangles, 0);
-        ASSERT_LE(bvh.depth, kMaxBvhDepth);
-        int failures = 0;
-        for (size_t n = 0; n < bvh.nodes.size() && failures < 10; ++n) {
-            const BvhNode& node = bvh.nodes[n];
-            if (node.primCount == 0) {
-                // Children lie inside their parent's bounds.
-                for (size_t c : {n + 1, size_t(node.offset)}) {
-                    ASSERT_LT(c, bvh.nodes.size());
-                    for (int a = 0; a < 3; ++a)
-                        if (!(bvh.nodes[c].lo[a] >= node.lo[a] && bvh.nodes[c].hi[a] <= node.hi[a])) {
-                            ADD_FAILURE() << "node " << c << " outside its parent " << n;
-                            ++failures;
-                        }
-                }
+    int failures = 0;
+    auto fail = [&](const std::string& what) {
+        if (++failures <= 10) ADD_FAILURE() << what;
+    };
+    size_t triangles = v.size() / 3;
+    std::vector<int> seen(triangles, 0), nodeSeen(bvh.nodes.size(), 0), packetSeen(bvh.packets.size(), 0);
+    // Returns the stack entries a traversal from node n can hold (one visit
+    // pushes children - 1 more than it pops).
+    std::function<int(int)> visit = [&](int n) -> int {
+        if (n < 0 || size_t(n) >= bvh.nodes.size()) { fail("node index " + std::to_string(n) + " out of range"); return 0; }
+        if (nodeSeen[n]++) { fail("node " + std::to_string(n) + " reached twice"); return 0; }
+        const BvhNode& node = bvh.nodes[n];
+        int children = 0, deepest = 0;
+        for (int c = 0; c < BVH_WIDTH; ++c) {
+            Bounds box;
+            box.lo = Vec3(node.bounds[0][c], node.bounds[1][c], node.bounds[2][c]);
+            box.hi = Vec3(node.bounds[3][c], node.bounds[4][c], node.bounds[5][c]);
+            if (!(box.lo.x <= box.hi.x)) { // empty slot: lo = +inf, hi = -inf on every axis
+                for (int a = 0; a < 3; ++a)
+                    if (!(node.bounds[a][c] == INFINITY && node.bounds[3 + a][c] == -INFINITY))
+                        fail("node " + std::to_string(n) + " slot " + std::to_string(c) + " neither a box nor empty");
                 continue;
             }
-            for (int i = node.offset; i < node.offset + node.primCount; ++i) {
-                seen[i]++;
-                uint32_t t = bvh.triangleOrder[i];
-                for (int k = 0; k < 3; ++k)
-                    for (int a = 0; a < 3; ++a)
-                        if (!(v[3 * t + k][a] >= node.lo[a] && v[3 * t + k][a] <= node.hi[a])) {
-                            ADD_FAILURE() << "triangle " << t << " outside its leaf " << n;
-                            ++failures;
-                        }
+            ++children;
+            auto inside = [&](Vec3 p) {
+                for (int a = 0; a < 3; ++a)
+                    if (!(p[a] >= box.lo[a] && p[a] <= box.hi[a])) return false;
+                return true;
+            };
+            int code = node.child[c];
+            if (code >= 0) {
+                if (size_t(code) < bvh.nodes.size()) {
+                    const BvhNode& child = bvh.nodes[code];
+                    for (int g = 0; g < BVH_WIDTH; ++g)
+                        if (child.bounds[0][g] <= child.bounds[3][g] &&
+                            !(inside(Vec3(child.bounds[0][g], child.bounds[1][g], child.bounds[2][g])) &&
+                              inside(Vec3(child.bounds[3][g], child.bounds[4][g], child.bounds[5][g]))))
+                            fail("a child of node " + std::to_string(code) + " outside its parent's box");
+                }
+                deepest = std::max(deepest, visit(code));
+                continue;
+            }
+            int first = (~code) >> 3, packets = ((~code) & 7) + 1;
+            for (int p = first; p < first + packets; ++p) {
+                if (p >= int(bvh.packets.size())) { fail("packet index out of range"); break; }
+                if (packetSeen[p]++) fail("packet " + std::to_string(p) + " in two leaves");
+                const TrianglePacket& packet = bvh.packets[p];
+                for (int lane = 0; lane < TRIANGLE_PACKET_WIDTH; ++lane) {
+                    int pos = packet.triangle[lane];
+                    if (pos < 0) continue;
+                    if (size_t(pos) >= triangles) { fail("triangle index out of range"); continue; }
+                    seen[pos]++;
+                    uint32_t t = bvh.triangleOrder[pos];
+                    for (int k = 0; k < 3; ++k) {
+                        Vec3 vertex(packet.v[k][0][lane], packet.v[k][1][lane], packet.v[k][2][lane]);
+                        if (!(vertex.x == v[3 * t + k].x && vertex.y == v[3 * t + k].y && vertex.z == v[3 * t + k].z)) fail("packet vertex differs from the scene's");
+                        if (!inside(vertex)) fail("triangle " + std::to_string(t) + " outside its leaf's box");
+                    }
+                }
             }
         }
-        for (size_t i = 0; i < triangles; ++i)
-            ASSERT_EQ(seen[i], 1) << "triangle slot " << i << " in " << seen[i] << " leaves";
+        if (children == 0) fail("node " + std::to_string(n) + " has no children");
+        return children - 1 + deepest;
+    };
+    int stack = visit(0);
+    EXPECT_LE(stack + 1, kBvhStackSize) << "a traversal could overflow the stack";
+    for (size_t n = 0; n < bvh.nodes.size(); ++n)
+        if (!nodeSeen[n]) fail("node " + std::to_string(n) + " unreachable");
+    for (size_t i = 0; i < triangles; ++i)
+        if (seen[i] != 1) fail("BVH position " + std::to_string(i) + " in " + std::to_string(seen[i]) + " leaf lanes");
+    std::vector<uint32_t> order = bvh.triangleOrder;
+    std::sort(order.begin(), order.end());
+    for (size_t i = 0; i < triangles; ++i)
+        if (order[i] != i) { fail("triangleOrder is not a permutation"); break; }
+    return failures;
+}
+
+// Random triangles (3,600 vertices, and 300,000: splits of 16,384 triangles or
+// more near the root build their subtrees on threads, whose node lists are then
+// spliced together) plus identical ones; and the degenerate inputs: all
+// triangles identical, all in one plane, a single triangle, tiny and huge scales.
+TEST(Bvh, StructureIsValid)
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-10, 10);
+    auto randomTriangles = [&](int vertices, float scale) {
+        std::vector<Vec3> v;
+        for (int i = 0; i < vertices; ++i) v.push_back(Vec3(u(rng), u(rng), u(rng)) * scale);
+        return v;
+    };
+    std::vector<std::pair<std::string, std::vector<Vec3>>> inputs;
+    for (int randomVertices : {3000, 300000}) {
+        std::vector<Vec3> v = randomTriangles(randomVertices, 1);
+        // Plus many identical triangles: centroids coincide and SAH cannot split.
+        for (int i = 0; i < 600; ++i) v.push_back(Vec3(float(i % 3), 0, 0));
+        inputs.push_back({std::to_string(randomVertices) + " random vertices", v});
     }
+    std::vector<Vec3> identical, planar;
+    for (int i = 0; i < 3000; ++i) identical.push_back(Vec3(float(i % 3), float(i % 3 == 1), 0));
+    for (int i = 0; i < 30000; ++i) planar.push_back(Vec3(u(rng), u(rng), 2.5f));
+    inputs.push_back({"identical triangles", identical});
+    inputs.push_back({"planar triangles", planar});
+    inputs.push_back({"one triangle", {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}});
+    inputs.push_back({"scale 1e-4", randomTriangles(30000, 1e-5f)});
+    inputs.push_back({"scale 1e5", randomTriangles(30000, 1e4f)});
+    for (const auto& [what, v] : inputs) {
+        SCOPED_TRACE(what);
+        Bvh bvh = buildBvh(v);
+        EXPECT_EQ(checkStructure(bvh, v), 0);
+    }
+}
+
+// checkStructure on a tree, its failure reports intercepted.
+int silentStructureFailures(const Bvh& bvh, const std::vector<Vec3>& v)
+{
+    ::testing::TestPartResultArray reports;
+    ::testing::ScopedFakeTestPartResultReporter reporter(
+        ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &reports);
+    return checkStructure(bvh, v);
+}
+
+// The check fails on a broken tree: a packet vertex moved, a triangle in two
+// leaf lanes (and so another in none), a child box shrunk.
+TEST(Bvh, StructureCheckDetectsBrokenTrees)
+{
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<float> u(-10, 10);
+    std::vector<Vec3> v;
+    for (int i = 0; i < 3000; ++i) v.push_back(Vec3(u(rng), u(rng), u(rng)));
+    const Bvh good = buildBvh(v);
+    ASSERT_GT(good.packets.size(), 6u);
+    EXPECT_EQ(silentStructureFailures(good, v), 0);
+    Bvh moved = good, duplicated = good, shrunk = good;
+    moved.packets[3].v[1][0][0] += 100.0f;
+    duplicated.packets[5].triangle[0] = duplicated.packets[6].triangle[0];
+    shrunk.nodes[0].bounds[3][0] = shrunk.nodes[0].bounds[0][0]; // child 0's box flat on x
+    EXPECT_GT(silentStructureFailures(moved, v), 0);
+    EXPECT_GT(silentStructureFailures(duplicated, v), 0);
+    EXPECT_GT(silentStructureFailures(shrunk, v), 0);
 }
 
 TEST(Bvh, CornellBoxMatchesBruteForce)

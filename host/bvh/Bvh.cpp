@@ -20,6 +20,16 @@ constexpr int kMedianSplitDepth = 32;
 // subtrees are built on two threads.
 constexpr uint32_t kParallelMinTriangles = 16384;
 
+// A node of the binary SAH tree, depth-first: an interior node's first child
+// is the next node, its second at secondChild. Every node covers the
+// triangles tris_[begin, begin + count).
+struct BinaryNode {
+    Bounds bounds;
+    uint32_t begin = 0, count = 0;
+    int secondChild = -1; // -1 for a leaf
+    bool leaf() const { return secondChild < 0; }
+};
+
 struct BuildTriangle {
     Bounds bounds;
     Vec3 centroid;
@@ -32,38 +42,35 @@ public:
     // threads at most. The tree is the same for any parallelDepth.
     Builder(std::vector<BuildTriangle>& tris, int parallelDepth) : tris_(tris), parallelDepth_(parallelDepth) {}
 
-    void build(Bvh& bvh)
+    void build(std::vector<BinaryNode>& nodes)
     {
-        nodes_ = &bvh.nodes;
+        nodes_ = &nodes;
         node(0, uint32_t(tris_.size()), 0);
-        bvh.depth = maxDepth_;
     }
 
 private:
     // Appends the subtree for tris_[begin, end) depth-first; returns its index.
     int node(uint32_t begin, uint32_t end, int depth)
     {
-        maxDepth_ = std::max(maxDepth_, depth);
         Bounds bounds, centroids;
         for (uint32_t i = begin; i < end; ++i) {
             bounds.extend(tris_[i].bounds);
             centroids.extend(tris_[i].centroid);
         }
         int index = int(nodes_->size());
-        nodes_->push_back(BvhNode{});
+        nodes_->push_back(BinaryNode{});
         uint32_t count = end - begin;
 
         uint32_t mid = count > 1 ? split(begin, end, bounds, centroids, depth) : begin;
-        BvhNode n{};
-        for (int a = 0; a < 3; ++a) { n.lo[a] = bounds.lo[a]; n.hi[a] = bounds.hi[a]; }
+        BinaryNode n;
+        n.bounds = bounds;
+        n.begin = begin;
+        n.count = count;
         if (mid == begin) { // leaf
-            n.offset = int(begin);
-            n.primCount = uint16_t(count);
         } else if (depth < parallelDepth_ && count >= kParallelMinTriangles) {
             // The two subtrees (disjoint ranges of tris_) on two threads, each
             // into a node list of its own, then appended in depth-first order.
-            n.axis = uint16_t(splitAxis_);
-            std::vector<BvhNode> left, right;
+            std::vector<BinaryNode> left, right;
             Builder leftBuilder(tris_, parallelDepth_), rightBuilder(tris_, parallelDepth_);
             leftBuilder.nodes_ = &left;
             rightBuilder.nodes_ = &right;
@@ -71,13 +78,11 @@ private:
                 std::async(std::launch::async, [&] { leftBuilder.node(begin, mid, depth + 1); });
             rightBuilder.node(mid, end, depth + 1);
             done.get();
-            maxDepth_ = std::max({maxDepth_, leftBuilder.maxDepth_, rightBuilder.maxDepth_});
             append(left);
-            n.offset = append(right);
+            n.secondChild = append(right);
         } else {
-            n.axis = uint16_t(splitAxis_);
             node(begin, mid, depth + 1);
-            n.offset = node(mid, end, depth + 1);
+            n.secondChild = node(mid, end, depth + 1);
         }
         (*nodes_)[index] = n;
         return index;
@@ -85,11 +90,11 @@ private:
 
     // Appends a subtree built with indices from 0, moving its interior nodes'
     // second-child indices by where it lands; returns the index of its root.
-    int append(const std::vector<BvhNode>& subtree)
+    int append(const std::vector<BinaryNode>& subtree)
     {
         int base = int(nodes_->size());
-        for (BvhNode n : subtree) {
-            if (n.primCount == 0) n.offset += base;
+        for (BinaryNode n : subtree) {
+            if (!n.leaf()) n.secondChild += base;
             nodes_->push_back(n);
         }
         return base;
@@ -100,7 +105,6 @@ private:
     {
         uint32_t count = end - begin;
         int axis = centroids.largestAxis();
-        splitAxis_ = axis;
         if (centroids.extent()[axis] <= 0.0f || depth >= kMedianSplitDepth) {
             // All centroids coincide (or the tree is deep already).
             return count <= kMaxLeafSize ? begin : medianSplit(begin, end, axis);
@@ -146,7 +150,6 @@ private:
         if (count <= kMaxLeafSize && splitCost >= float(count)) return begin;
         if (bestAxis < 0) return medianSplit(begin, end, axis);
 
-        splitAxis_ = bestAxis;
         float lo = centroids.lo[bestAxis], scale = kBins / centroids.extent()[bestAxis];
         auto it = std::partition(tris_.begin() + begin, tris_.begin() + end, [&](const BuildTriangle& t) {
             return std::min(kBins - 1, int((t.centroid[bestAxis] - lo) * scale)) <= bestBin;
@@ -166,13 +169,141 @@ private:
     }
 
     std::vector<BuildTriangle>& tris_;
-    std::vector<BvhNode>* nodes_ = nullptr;
+    std::vector<BinaryNode>* nodes_ = nullptr;
     int parallelDepth_ = 0;
-    int maxDepth_ = 0;
-    int splitAxis_ = 0;
 };
 
+// The wide tree from the binary one: each wide node takes a binary node's two
+// children, then repeatedly replaces its largest-area interior child by that
+// child's two children, until it has BVH_WIDTH (Wald, Benthin, Boulos,
+// "Getting Rid of Packets", RT 2008, §3). A subtree of at most
+// TRIANGLE_PACKET_WIDTH triangles becomes one leaf packet.
+//
+// Stack bound: a visit pushes at most (children - 1) entries more than it pops,
+// so a traversal from a node never holds more than S(node) = (children - 1) +
+// max over interior children of S(child), plus one while pushing. A binary
+// subtree of height h can always be collapsed with S <= h (two children per
+// node), so each node is given a budget, starting at BVH_STACK_SIZE - 1 >= the
+// binary tree's height, and an expansion is taken only if (children - 1) plus
+// the largest remaining binary height stays within it.
+class Collapser {
+public:
+    Collapser(const std::vector<BinaryNode>& binary, const std::vector<Vec3>& vertices, Bvh& bvh)
+        : binary_(binary), vertices_(vertices), bvh_(bvh), height_(binary.size(), 0)
+    {
+        for (size_t i = binary.size(); i-- > 0;)
+            if (!binary[i].leaf()) height_[i] = 1 + std::max(height_[i + 1], height_[binary[i].secondChild]);
+    }
+
+    void collapse()
+    {
+        if (height_[0] > kBvhStackSize - 1) throw Error("internal error: the binary BVH is too deep");
+        bvh_.nodes.emplace_back();
+        fill(0, 0, kBvhStackSize - 1, 1);
+    }
+
+private:
+    bool isLeaf(int b) const { return binary_[b].leaf() || binary_[b].count <= TRIANGLE_PACKET_WIDTH; }
+    int height(int b) const { return isLeaf(b) ? 0 : height_[b]; }
+
+    // Wide node `index` from binary node b, whose stack budget is `budget`.
+    void fill(int index, int b, int budget, int depth)
+    {
+        bvh_.depth = std::max(bvh_.depth, depth);
+        int children[BVH_WIDTH];
+        int k = 0;
+        if (isLeaf(b)) children[k++] = b; // the root of a tiny scene
+        else { children[k++] = b + 1; children[k++] = binary_[b].secondChild; }
+        while (k < BVH_WIDTH) {
+            int best = -1;
+            float bestArea = -1;
+            for (int i = 0; i < k; ++i) {
+                int c = children[i];
+                if (isLeaf(c)) continue;
+                int tallest = std::max(height(c + 1), height(binary_[c].secondChild));
+                for (int j = 0; j < k; ++j)
+                    if (j != i) tallest = std::max(tallest, height(children[j]));
+                if (k + tallest > budget) continue; // (k + 1 children) - 1 pushes
+                float area = binary_[c].bounds.surfaceArea();
+                if (area > bestArea) { bestArea = area; best = i; }
+            }
+            if (best < 0) break;
+            int c = children[best];
+            children[best] = c + 1;
+            children[k++] = binary_[c].secondChild;
+        }
+
+        BvhNode node;
+        for (int i = 0; i < BVH_WIDTH; ++i) {
+            for (int a = 0; a < 3; ++a) {
+                node.bounds[a][i] = INFINITY;
+                node.bounds[3 + a][i] = -INFINITY;
+            }
+            node.child[i] = 0;
+        }
+        for (int i = 0; i < k; ++i) {
+            const BinaryNode& c = binary_[children[i]];
+            for (int a = 0; a < 3; ++a) {
+                node.bounds[a][i] = c.bounds.lo[a];
+                node.bounds[3 + a][i] = c.bounds.hi[a];
+            }
+            if (isLeaf(children[i])) {
+                node.child[i] = leaf(c.begin, c.count);
+            } else {
+                node.child[i] = int(bvh_.nodes.size());
+                bvh_.nodes.emplace_back();
+                fill(node.child[i], children[i], budget - (k - 1), depth + 1);
+            }
+        }
+        bvh_.nodes[index] = node;
+    }
+
+    // Packs triangles [begin, begin + count) into packets; returns the child code.
+    int leaf(uint32_t begin, uint32_t count)
+    {
+        int first = int(bvh_.packets.size());
+        int packets = int((count + TRIANGLE_PACKET_WIDTH - 1) / TRIANGLE_PACKET_WIDTH);
+        if (packets > BVH_LEAF_MAX_PACKETS) throw Error("internal error: a BVH leaf has too many triangles");
+        if (first > (INT32_MAX >> 3)) throw Error("too many triangles for the BVH's leaf encoding");
+        std::vector<TrianglePacket> leafPackets = packTriangles(vertices_, bvh_.triangleOrder, begin, count);
+        bvh_.packets.insert(bvh_.packets.end(), leafPackets.begin(), leafPackets.end());
+        return ~(first * 8 + packets - 1);
+    }
+
+    const std::vector<BinaryNode>& binary_;
+    const std::vector<Vec3>& vertices_;
+    Bvh& bvh_;
+    std::vector<int> height_;
+};
+
+// Σ over nodes of area(node)/area(root) · (traversal cost, or triangles for a leaf).
+double sahCost(const std::vector<BinaryNode>& nodes)
+{
+    double rootArea = nodes[0].bounds.surfaceArea(), cost = 0;
+    if (!(rootArea > 0)) return 0;
+    for (const BinaryNode& n : nodes)
+        cost += n.bounds.surfaceArea() / rootArea * (n.leaf() ? double(n.count) : double(kTraversalCost));
+    return cost;
+}
+
 } // namespace
+
+std::vector<TrianglePacket> packTriangles(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order,
+                                          uint32_t begin, uint32_t count)
+{
+    std::vector<TrianglePacket> packets((count + TRIANGLE_PACKET_WIDTH - 1) / TRIANGLE_PACKET_WIDTH);
+    for (size_t p = 0; p < packets.size(); ++p)
+        for (uint32_t lane = 0; lane < TRIANGLE_PACKET_WIDTH; ++lane) {
+            uint32_t slot = uint32_t(p * TRIANGLE_PACKET_WIDTH + lane);
+            bool real = slot < count;
+            // Padding repeats the packet's first triangle, so no lane is degenerate.
+            uint32_t position = begin + (real ? slot : uint32_t(p * TRIANGLE_PACKET_WIDTH));
+            packets[p].triangle[lane] = real ? int(position) : -1;
+            for (int v = 0; v < 3; ++v)
+                for (int a = 0; a < 3; ++a) packets[p].v[v][a][lane] = vertices[3 * order[position] + v][a];
+        }
+    return packets;
+}
 
 Bvh buildBvh(const std::vector<Vec3>& vertices)
 {
@@ -186,16 +317,20 @@ Bvh buildBvh(const std::vector<Vec3>& vertices)
         tris[t].centroid = tris[t].bounds.center();
         tris[t].index = uint32_t(t);
     }
-    Bvh bvh;
-    bvh.nodes.reserve(2 * count);
+    std::vector<BinaryNode> binary;
+    binary.reserve(2 * count);
     // Two levels more than the cores need: splits near the root are often
     // uneven, and more, smaller subtrees balance the cores.
     int parallelDepth = 2;
     for (unsigned threads = std::max(1u, std::thread::hardware_concurrency()); (1u << (parallelDepth - 2)) < threads;)
         ++parallelDepth;
-    Builder(tris, parallelDepth).build(bvh);
+    Builder(tris, parallelDepth).build(binary);
+    Bvh bvh;
+    bvh.binaryNodes = binary.size();
+    bvh.sahCost = sahCost(binary);
     bvh.triangleOrder.resize(count);
     for (size_t i = 0; i < count; ++i) bvh.triangleOrder[i] = tris[i].index;
+    Collapser(binary, vertices, bvh).collapse();
     bvh.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return bvh;
 }

@@ -1,5 +1,6 @@
-// Binned-SAH bounding volume hierarchy over triangles, built on the host and
-// flattened depth-first into the BvhNode array the kernels traverse.
+// Bounding volume hierarchy over triangles, built on the host: a binned-SAH
+// binary tree collapsed into the wide BvhNode tree the kernels traverse, its
+// leaves' triangles in TrianglePackets (kernels/interface/shared_types.h).
 #pragma once
 
 #include "../../kernels/interface/shared_types.h"
@@ -11,17 +12,28 @@
 namespace wv {
 
 struct Bvh {
-    std::vector<BvhNode> nodes;
+    std::vector<BvhNode> nodes; // the root first
+    std::vector<TrianglePacket> packets;
     // triangleOrder[i] is the scene triangle stored at BVH position i.
     std::vector<uint32_t> triangleOrder;
-    int depth = 0;            // levels below the root; kernels keep a stack of BVH_STACK_SIZE
+    int depth = 0;          // levels of wide nodes
+    size_t binaryNodes = 0; // nodes of the binary tree before collapsing
+    double sahCost = 0;     // of the binary tree: traversal step 1, triangle test 1
     double buildSeconds = 0;
 };
 
 // `vertices` holds three vertices per triangle. Throws if there are none.
 Bvh buildBvh(const std::vector<Vec3>& vertices);
 
-// The kernels' stack bound (kernels/geometry/bvh_traversal.h); the build stays within it.
-constexpr int kMaxBvhDepth = 63;
+// Packets of BVH positions [begin, begin + count), in order; the vertices of
+// position i are vertices[3 · order[i] + k].
+std::vector<TrianglePacket> packTriangles(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order,
+                                          uint32_t begin, uint32_t count);
+
+// The traversal stack's size (BVH_STACK_SIZE in kernels/geometry/bvh_traversal.h):
+// no traversal of a built tree needs more entries.
+constexpr int kBvhStackSize = 64;
+// The binary tree's depth bound, which lets the wide tree keep within the stack.
+constexpr int kMaxBvhDepth = kBvhStackSize - 1;
 
 } // namespace wv

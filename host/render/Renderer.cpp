@@ -75,6 +75,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     KernelBuffers& b = buffers_;
     const SceneBuffers& s = sceneBuffers_;
     b.nodes = s.nodes;
+    b.trianglePackets = s.trianglePackets;
     b.triVertices = s.triVertices;
     b.triNormals = s.triNormals;
     b.triMaterials = s.triMaterials;

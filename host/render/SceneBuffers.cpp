@@ -64,6 +64,7 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
         return uploadBuffer(device, v.data(), b, what);
     };
     nodes = upload(bvh.nodes, "the BVH");
+    trianglePackets = upload(bvh.packets, "the BVH's triangle packets");
     triVertices = upload(vertices, "the triangle vertices");
     triNormals = upload(normals, "the vertex normals");
     triMaterials = upload(triMaterial, "the triangle materials");

@@ -11,6 +11,7 @@ namespace wv {
 
 struct SceneBuffers {
     cl::Buffer nodes;            // BvhNode[]
+    cl::Buffer trianglePackets;  // TrianglePacket[]: the BVH leaves' triangles
     cl::Buffer triVertices;      // float4[3 · triangles], BVH order
     cl::Buffer triNormals;       // float4[3 · triangles] with vertex normals, else 1 float4
     cl::Buffer triMaterials;     // int[triangles]

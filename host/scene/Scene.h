@@ -11,7 +11,8 @@
 namespace wv {
 
 // Layout checks for the structs shared with the kernels (see shared_types.h).
-static_assert(sizeof(BvhNode) == 32, "BvhNode must be 32 bytes");
+static_assert(sizeof(BvhNode) == 7 * 4 * BVH_WIDTH, "BvhNode layout");
+static_assert(sizeof(TrianglePacket) == 40 * TRIANGLE_PACKET_WIDTH, "TrianglePacket layout");
 static_assert(sizeof(Camera) == 64, "Camera layout");
 static_assert(sizeof(Material) == 80, "Material layout");
 static_assert(sizeof(Light) == 64, "Light layout");

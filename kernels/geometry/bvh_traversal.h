@@ -1,5 +1,8 @@
-/* Closest-hit and any-hit traversal of the flattened BVH: one routine, the
- * any-hit variant returns at the first intersection found. */
+/* Closest-hit and any-hit traversal of the wide BVH (BvhNode in
+ * interface/shared_types.h): one routine, the any-hit variant returns at the
+ * first intersection found. A node visit tests all BVH_WIDTH child boxes with
+ * one vector operation per slab plane and visits the children it hits near to
+ * far; a leaf tests its triangles a packet at a time (intersect_triangle.h). */
 #ifndef WAVEVCM_BVH_TRAVERSAL_H
 #define WAVEVCM_BVH_TRAVERSAL_H
 
@@ -7,9 +10,21 @@
 #include "interface/shared_types.h"
 #include "intersect_triangle.h"
 
-/* The host builds trees at most this deep (host/bvh/Bvh.cpp), so the stack
- * cannot overflow. */
+/* The host builds trees whose traversal never holds more than this many
+ * entries (host/bvh/Bvh.cpp bounds the pushes along every path). */
 #define BVH_STACK_SIZE 64
+
+#if BVH_WIDTH == 8
+typedef float8 floatw;
+#define vloadw vload8
+#define vstorew vstore8
+#elif BVH_WIDTH == 4
+typedef float4 floatw;
+#define vloadw vload4
+#define vstorew vstore4
+#else
+#error "BVH_WIDTH must be 4 or 8"
+#endif
 
 typedef struct Hit {
     float t;
@@ -17,71 +32,117 @@ typedef struct Hit {
     float b1, b2; /* barycentric weights of vertices 1 and 2 */
 } Hit;
 
-/* Slab test. invDir = 1/direction may hold ±∞ for axis-parallel rays; where
- * the origin then lies exactly on a slab plane, 0·∞ = NaN stands for "inside
- * the slab on this axis" and is replaced by -∞ (near) or +∞ (far), so rays
- * along box faces and through edges are not culled. The far distance is
- * enlarged by 1 + 2γ(3) (Ize, "Robust BVH Ray Traversal", JCGT 2013) so
- * rounding never culls a box the ray touches, which keeps the watertight
- * triangle test watertight through the tree. */
-INLINE bool ray_hits_box(float3 origin, float3 invDir, float3 lo, float3 hi, float tMax)
+/* Per-ray constants of the slab test. near[a] selects the child boxes' plane
+ * the ray enters through on axis a (lower bound if the direction is
+ * positive), far[a] the one it leaves through. */
+typedef struct BoxRay {
+    float3 origin, invDir;
+    int near[3], far[3];
+} BoxRay;
+
+INLINE BoxRay box_ray(Ray ray)
 {
-    float3 t0 = (lo - origin) * invDir, t1 = (hi - origin) * invDir;
-    t0 = select(t0, -invDir, isnan(t0));
-    t1 = select(t1, invDir, isnan(t1));
-    float3 tNear = fmin(t0, t1), tFar = fmax(t0, t1);
-    float enter = fmax(fmax(tNear.x, tNear.y), fmax(tNear.z, 0.0f));
-    float leave = fmin(fmin(tFar.x, tFar.y), fmin(tFar.z, tMax)) * 1.0000004f;
-    return enter <= leave;
+    BoxRay r;
+    r.origin = ray.origin;
+    r.invDir = 1.0f / ray.direction;
+    int3 negative = signbit(r.invDir);
+    r.near[0] = negative.x ? 3 : 0; r.far[0] = 3 - r.near[0];
+    r.near[1] = negative.y ? 4 : 1; r.far[1] = 5 - r.near[1];
+    r.near[2] = negative.z ? 5 : 2; r.far[2] = 7 - r.near[2];
+    return r;
 }
 
-INLINE float3 load_float3(__global const float* p) { return (float3)(p[0], p[1], p[2]); }
+/* Slab test of every child box: *enter and *leave get each child's entry
+ * and exit distances; a child is hit where enter <= leave. invDir may hold
+ * ±∞ for axis-parallel rays; where the origin then lies exactly on a slab
+ * plane, 0·∞ = NaN stands for "inside the slab on this axis", and fmax/fmin,
+ * which return the other operand for a NaN, skip it, so rays along box faces
+ * and through edges are not culled. The exit distance is enlarged by
+ * 1 + 2γ(3) (Ize, "Robust BVH Ray Traversal", JCGT 2013) so rounding never
+ * culls a box the ray touches, which keeps the watertight triangle test
+ * watertight through the tree. An empty slot (lo = +∞, hi = -∞) enters at
+ * +∞ and leaves at -∞. */
+INLINE void intersect_child_boxes(__global const BvhNode* node, const BoxRay* r, float tMax, floatw* enter,
+                                  floatw* leave)
+{
+    floatw nx = (vloadw(0, node->bounds[r->near[0]]) - r->origin.x) * r->invDir.x;
+    floatw ny = (vloadw(0, node->bounds[r->near[1]]) - r->origin.y) * r->invDir.y;
+    floatw nz = (vloadw(0, node->bounds[r->near[2]]) - r->origin.z) * r->invDir.z;
+    floatw fx = (vloadw(0, node->bounds[r->far[0]]) - r->origin.x) * r->invDir.x;
+    floatw fy = (vloadw(0, node->bounds[r->far[1]]) - r->origin.y) * r->invDir.y;
+    floatw fz = (vloadw(0, node->bounds[r->far[2]]) - r->origin.z) * r->invDir.z;
+    *enter = fmax(fmax(nx, ny), fmax(nz, (floatw)(0.0f)));
+    *leave = fmin(fmin(fx, fy), fmin(fz, (floatw)(tMax))) * 1.0000004f;
+}
+
+/* A stack entry is skipped when popped if the ray, shortened since it was
+ * pushed, now ends before the box: the same test as enter <= leave above. */
+INLINE bool box_still_ahead(float enter, float tMax) { return enter <= tMax * 1.0000004f; }
 
 /* Returns whether anything was hit before ray.tMax. With anyHit the first hit
  * found ends the search and *hit holds that hit, not the closest. */
-INLINE bool trace_ray(__global const BvhNode* nodes, __global const float4* triVertices, Ray ray,
+INLINE bool trace_ray(__global const BvhNode* nodes, __global const TrianglePacket* packets, Ray ray,
                       bool anyHit, Hit* hit)
 {
     ShearedRay sheared = shear_ray(ray);
-    float3 invDir = 1.0f / ray.direction;
+    BoxRay boxRay = box_ray(ray);
     float tMax = ray.tMax;
     hit->triangle = -1;
 
-    int stack[BVH_STACK_SIZE];
+    /* Entries: a node index (>= 0) or a leaf (< 0, as in BvhNode.child),
+     * with the distance at which the ray enters its box. */
+    int stackItem[BVH_STACK_SIZE];
+    float stackEnter[BVH_STACK_SIZE];
     int stackSize = 0;
-    int nodeIndex = 0;
+    int item = 0;
     for (;;) {
-        __global const BvhNode* node = &nodes[nodeIndex];
-        if (ray_hits_box(ray.origin, invDir, load_float3(node->lo), load_float3(node->hi), tMax)) {
-            if (node->primCount > 0) {
-                int end = node->offset + node->primCount;
-                for (int tri = node->offset; tri < end; ++tri) {
-                    float t, b1, b2;
-                    if (intersect_triangle(&sheared, triVertices[3 * tri].xyz,
-                                           triVertices[3 * tri + 1].xyz,
-                                           triVertices[3 * tri + 2].xyz, tMax, &t, &b1, &b2)) {
-                        tMax = t;
-                        hit->t = t;
-                        hit->triangle = tri;
-                        hit->b1 = b1;
-                        hit->b2 = b2;
-                        if (anyHit)
-                            return true;
-                    }
+        if (item >= 0) {
+            /* Interior node: push the children hit, farthest first, by
+             * insertion into the top of the stack; then go to the nearest. */
+            __global const BvhNode* node = &nodes[item];
+            floatw enterw, leavew;
+            intersect_child_boxes(node, &boxRay, tMax, &enterw, &leavew);
+            float enter[BVH_WIDTH], leave[BVH_WIDTH];
+            vstorew(enterw, 0, enter);
+            vstorew(leavew, 0, leave);
+            int base = stackSize;
+#pragma unroll
+            for (int c = 0; c < BVH_WIDTH; ++c) {
+                if (!(enter[c] <= leave[c]))
+                    continue;
+                int j = stackSize++;
+                for (; j > base && stackEnter[j - 1] < enter[c]; --j) {
+                    stackItem[j] = stackItem[j - 1];
+                    stackEnter[j] = stackEnter[j - 1];
                 }
-            } else {
-                /* Visit the child on the ray's near side of the split first. */
-                bool nearIsSecond = component(ray.direction, node->axis) < 0.0f;
-                stack[stackSize++] = nearIsSecond ? nodeIndex + 1 : node->offset;
-                nodeIndex = nearIsSecond ? node->offset : nodeIndex + 1;
-                continue;
+                stackItem[j] = node->child[c];
+                stackEnter[j] = enter[c];
+            }
+        } else {
+            /* Leaf: its packets, in order. */
+            int first = (~item) >> 3, end = first + ((~item) & 7) + 1;
+            for (int p = first; p < end; ++p) {
+                float t, b1, b2;
+                int lane = intersect_packet(&sheared, &packets[p], tMax, &t, &b1, &b2);
+                if (lane >= 0) {
+                    tMax = t;
+                    hit->t = t;
+                    hit->triangle = packets[p].triangle[lane];
+                    hit->b1 = b1;
+                    hit->b2 = b2;
+                    if (anyHit)
+                        return true;
+                }
             }
         }
-        if (stackSize == 0)
-            break;
-        nodeIndex = stack[--stackSize];
+        /* Next: the top of the stack, skipping boxes now beyond the hit. */
+        do {
+            if (stackSize == 0)
+                return hit->triangle >= 0;
+            --stackSize;
+        } while (!box_still_ahead(stackEnter[stackSize], tMax));
+        item = stackItem[stackSize];
     }
-    return hit->triangle >= 0;
 }
 
 #endif

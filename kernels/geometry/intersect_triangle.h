@@ -1,13 +1,16 @@
 /* Watertight ray/triangle intersection (Woop, Benthin, Wald, "Watertight
- * Ray/Triangle Intersection", JCGT 2(1), 2013). The ray is sheared so it runs
- * along +z from the origin; the three 2-D edge functions then share their
- * inputs between neighbouring triangles, so a ray through a shared edge or
- * vertex hits at least one of them. Both faces are hit; nothing is culled. */
+ * Ray/Triangle Intersection", JCGT 2(1), 2013), for the TRIANGLE_PACKET_WIDTH
+ * triangles of one packet at once: every line below is one float4 operation
+ * over the packet's triangles. The ray is sheared so it runs along +z from the
+ * origin; the three 2-D edge functions then share their inputs between
+ * neighbouring triangles, so a ray through a shared edge or vertex hits at
+ * least one of them. Both faces are hit; nothing is culled. */
 #ifndef WAVEVCM_INTERSECT_TRIANGLE_H
 #define WAVEVCM_INTERSECT_TRIANGLE_H
 
 #include "core/ray.h"
 #include "interface/inline.h"
+#include "interface/shared_types.h"
 
 /* No fused multiply-add contraction: the same ray and triangle then give the
  * same t in every kernel and on every device, so closest-hit, any-hit and
@@ -20,8 +23,8 @@
 
 /* Per-ray constants of the shear transform (eq. in §3 of the paper). */
 typedef struct ShearedRay {
-    float3 origin;
-    int kx, ky, kz;  /* permuted axes; kz is the largest |direction| component */
+    float ox, oy, oz; /* the origin, permuted like the axes */
+    int kx, ky, kz;   /* permuted axes; kz is the largest |direction| component */
     float sx, sy, sz;
 } ShearedRay;
 
@@ -41,65 +44,85 @@ INLINE ShearedRay shear_ray(Ray ray)
     s.sx = component(ray.direction, s.kx) / dz;
     s.sy = component(ray.direction, s.ky) / dz;
     s.sz = 1.0f / dz;
-    s.origin = ray.origin;
+    s.ox = component(ray.origin, s.kx);
+    s.oy = component(ray.origin, s.ky);
+    s.oz = component(ray.origin, s.kz);
     return s;
 }
 
-/* Returns true and sets *t, *b1, *b2 (barycentrics of v1 and v2) if the ray
- * hits the triangle with 0 < t < tMax. */
-INLINE bool intersect_triangle(const ShearedRay* s, float3 v0, float3 v1, float3 v2, float tMax,
-                               float* t, float* b1, float* b2)
+INLINE float float4_lane(float4 v, int lane)
 {
-    float3 A = v0 - s->origin, B = v1 - s->origin, C = v2 - s->origin;
-    float Az = component(A, s->kz), Bz = component(B, s->kz), Cz = component(C, s->kz);
-    float Ax = component(A, s->kx) - s->sx * Az, Ay = component(A, s->ky) - s->sy * Az;
-    float Bx = component(B, s->kx) - s->sx * Bz, By = component(B, s->ky) - s->sy * Bz;
-    float Cx = component(C, s->kx) - s->sx * Cz, Cy = component(C, s->ky) - s->sy * Cz;
+    return lane == 0 ? v.s0 : lane == 1 ? v.s1 : lane == 2 ? v.s2 : v.s3;
+}
 
-    float U = Cx * By - Cy * Bx;
-    float V = Ax * Cy - Ay * Cx;
-    float W = Bx * Ay - By * Ax;
+/* The nearest hit among the packet's triangles with 0 < t < tMax: returns
+ * its lane, or -1, and sets *t, *b1, *b2 (barycentrics of v1 and v2). */
+INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* p, float tMax, float* t,
+                            float* b1, float* b2)
+{
+    /* Vertices relative to the origin, sheared (§3, eqs. 2-3). */
+    float4 Az = vload4(0, p->v[0][s->kz]) - s->oz;
+    float4 Bz = vload4(0, p->v[1][s->kz]) - s->oz;
+    float4 Cz = vload4(0, p->v[2][s->kz]) - s->oz;
+    float4 Ax = (vload4(0, p->v[0][s->kx]) - s->ox) - s->sx * Az;
+    float4 Ay = (vload4(0, p->v[0][s->ky]) - s->oy) - s->sy * Az;
+    float4 Bx = (vload4(0, p->v[1][s->kx]) - s->ox) - s->sx * Bz;
+    float4 By = (vload4(0, p->v[1][s->ky]) - s->oy) - s->sy * Bz;
+    float4 Cx = (vload4(0, p->v[2][s->kx]) - s->ox) - s->sx * Cz;
+    float4 Cy = (vload4(0, p->v[2][s->ky]) - s->oy) - s->sy * Cz;
+
+    float4 U = Cx * By - Cy * Bx;
+    float4 V = Ax * Cy - Ay * Cx;
+    float4 W = Bx * Ay - By * Ax;
 #ifdef cl_khr_fp64
-    /* An edge function of exactly 0 may be a rounding artefact: redo all three
-     * in double, as the paper prescribes, so the sign test is exact. */
-    if (U == 0.0f || V == 0.0f || W == 0.0f) {
-        U = (float)((double)Cx * (double)By - (double)Cy * (double)Bx);
-        V = (float)((double)Ax * (double)Cy - (double)Ay * (double)Cx);
-        W = (float)((double)Bx * (double)Ay - (double)By * (double)Ax);
+    /* An edge function of exactly 0 may be a rounding artefact: redo that
+     * triangle's three in double, as the paper prescribes, so the sign test
+     * is exact. */
+    int4 zero = U == 0.0f || V == 0.0f || W == 0.0f;
+    if (any(zero)) {
+        double4 ax = convert_double4(Ax), ay = convert_double4(Ay), bx = convert_double4(Bx),
+                by = convert_double4(By), cx = convert_double4(Cx), cy = convert_double4(Cy);
+        U = select(U, convert_float4(cx * by - cy * bx), zero);
+        V = select(V, convert_float4(ax * cy - ay * cx), zero);
+        W = select(W, convert_float4(bx * ay - by * ax), zero);
     }
 #endif
-    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f))
-        return false;
-    float det = U + V + W;
-    if (det == 0.0f)
-        return false;
+    float4 det = U + V + W;
+    int4 hit = !((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) && det != 0.0f &&
+               vload4(0, p->triangle) >= 0;
+    if (!any(hit))
+        return -1;
 
     Az *= s->sz; Bz *= s->sz; Cz *= s->sz;
-    float T = U * Az + V * Bz + W * Cz;
+    float4 T = U * Az + V * Bz + W * Cz;
     /* Divide before comparing: the hit is reported iff the t we return lies
      * in (deltaT, tMax), so closest-hit and any-hit agree at every segment end. */
-    float invDet = 1.0f / det;
-    float tHit = T * invDet;
-    if (!(tHit < tMax))
-        return false;
+    float4 invDet = 1.0f / det;
+    float4 tHit = T * invDet;
     /* t must exceed its own rounding error (pbrt-v4, Triangle::Intersect,
      * after Woop et al. §4): a ray that starts on the triangle, e.g. on a
      * plane through the origin where the hit point's error bound and so the
      * ray offset are zero, must not hit it at t ≈ 0. */
-    float maxZ = fmax(fabs(Az), fmax(fabs(Bz), fabs(Cz)));
-    float maxX = fmax(fabs(Ax), fmax(fabs(Bx), fabs(Cx)));
-    float maxY = fmax(fabs(Ay), fmax(fabs(By), fabs(Cy)));
-    float deltaZ = GAMMA(3) * maxZ;
-    float deltaX = GAMMA(5) * (maxX + maxZ), deltaY = GAMMA(5) * (maxY + maxZ);
-    float deltaE = 2.0f * (GAMMA(2) * maxX * maxY + deltaY * maxX + deltaX * maxY);
-    float maxE = fmax(fabs(U), fmax(fabs(V), fabs(W)));
-    float deltaT = 3.0f * (GAMMA(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * fabs(invDet);
-    if (!(tHit > deltaT))
-        return false;
-    *t = tHit;
-    *b1 = V * invDet;
-    *b2 = W * invDet;
-    return true;
+    float4 maxZ = fmax(fabs(Az), fmax(fabs(Bz), fabs(Cz)));
+    float4 maxX = fmax(fabs(Ax), fmax(fabs(Bx), fabs(Cx)));
+    float4 maxY = fmax(fabs(Ay), fmax(fabs(By), fabs(Cy)));
+    float4 deltaZ = GAMMA(3) * maxZ;
+    float4 deltaX = GAMMA(5) * (maxX + maxZ), deltaY = GAMMA(5) * (maxY + maxZ);
+    float4 deltaE = 2.0f * (GAMMA(2) * maxX * maxY + deltaY * maxX + deltaX * maxY);
+    float4 maxE = fmax(fabs(U), fmax(fabs(V), fabs(W)));
+    float4 deltaT = 3.0f * (GAMMA(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * fabs(invDet);
+    hit = hit && tHit < tMax && tHit > deltaT;
+
+    /* The nearest lane; on a tie the first. */
+    float4 tLane = select((float4)(INFINITY), tHit, hit);
+    float nearest = fmin(fmin(tLane.s0, tLane.s1), fmin(tLane.s2, tLane.s3));
+    if (!(nearest < tMax))
+        return -1;
+    int lane = tLane.s0 == nearest ? 0 : tLane.s1 == nearest ? 1 : tLane.s2 == nearest ? 2 : 3;
+    *t = nearest;
+    *b1 = float4_lane(V * invDet, lane);
+    *b2 = float4_lane(W * invDet, lane);
+    return lane;
 }
 
 #endif

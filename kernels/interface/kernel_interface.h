@@ -24,6 +24,7 @@ namespace wv {
 /* The scene, uploaded once per render (host/render/SceneBuffers.h). */
 #define SCENE_BUFFERS(X)                                                                                   \
     X(__global, BvhNode, nodes, 0)           /* the flattened BVH */                                       \
+    X(__global, TrianglePacket, trianglePackets, 0) /* the BVH leaves' triangles */                        \
     X(__global, float4, triVertices, 0)      /* 3 per triangle, BVH order */                               \
     X(__global, float4, triNormals, 0)       /* 3 per triangle with vertex normals, else 1 */              \
     X(__global, int, triMaterials, 0)        /* material index per triangle */                             \

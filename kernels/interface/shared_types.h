@@ -3,7 +3,7 @@
  * Included by the host (C++17) and by the kernels (OpenCL C 1.2). Members are
  * 4-byte scalars or arrays of them (never float3, whose OpenCL alignment is 16),
  * so both compilers lay the structs out identically; the host static_asserts
- * the sizes in host/scene/DeviceLayout.cpp. */
+ * the sizes in host/scene/Scene.h. */
 #ifndef WAVEVCM_SHARED_TYPES_H
 #define WAVEVCM_SHARED_TYPES_H
 
@@ -14,18 +14,30 @@ typedef uint32_t uint;
 typedef uint16_t ushort;
 #endif
 
-/* One node of the flattened BVH, 32 bytes, stored depth-first: an interior
- * node's first child is the next node, its second child is at `offset`.
- * A leaf (primCount > 0) holds triangles [offset, offset + primCount) of the
- * BVH-ordered triangle arrays. `axis` is the split axis, used to visit the
- * nearer child first. */
+/* The BVH the kernels traverse (host/bvh/Bvh.h): BVH_WIDTH children per
+ * node, their boxes stored structure-of-arrays so that one node visit tests
+ * every child's slabs in a handful of vector operations
+ * (kernels/geometry/bvh_traversal.h). bounds[a][i] is child i's lower bound
+ * on axis a, bounds[3 + a][i] its upper bound; an empty slot has lo = +inf,
+ * hi = -inf and is never hit. child[i] >= 0 is an interior node's index; a
+ * leaf is ~(first packet · 8 + packets - 1): up to 8 consecutive triangle
+ * packets. The root is node 0. */
+#define BVH_WIDTH 8
+#define BVH_LEAF_MAX_PACKETS 8
 typedef struct BvhNode {
-    float lo[3];
-    int offset;
-    float hi[3];
-    ushort primCount;
-    ushort axis;
+    float bounds[6][BVH_WIDTH];
+    int child[BVH_WIDTH];
 } BvhNode;
+
+/* TRIANGLE_PACKET_WIDTH triangles of one leaf, tested together: v[k][a][i]
+ * is coordinate a of vertex k of the packet's triangle i; triangle[i] its
+ * index in the BVH-ordered triangle arrays, -1 for padding (a copy of a real
+ * triangle of the packet, never reported). */
+#define TRIANGLE_PACKET_WIDTH 4
+typedef struct TrianglePacket {
+    float v[3][3][TRIANGLE_PACKET_WIDTH];
+    int triangle[TRIANGLE_PACKET_WIDTH];
+} TrianglePacket;
 
 /* Pinhole camera. A pixel (x, y) with sub-pixel jitter (u, v) maps to the
  * direction forward + (2(x+u)/W - 1)·right + (1 - 2(y+v)/H)·up; right and up

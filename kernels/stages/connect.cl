@@ -17,7 +17,7 @@ __kernel void connect(RENDER_KERNEL_PARAMS)
     if (slot < 0)
         return;
     Hit hit;
-    if (!trace_ray(nodes, triVertices, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
+    if (!trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
         pixelRadiance[pathPixel[slot]] += shadowContribution[slot];
 }
 
@@ -40,7 +40,7 @@ __kernel void connect_splat(RENDER_KERNEL_PARAMS)
     if (slot < 0)
         return;
     Hit hit;
-    if (trace_ray(nodes, triVertices, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
+    if (trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
         return;
     float4 c = shadowContribution[slot];
     volatile __global float* pixel = (volatile __global float*)(splatRadiance + shadowPixel[slot]);

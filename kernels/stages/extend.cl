@@ -11,7 +11,7 @@ __kernel void extend(RENDER_KERNEL_PARAMS)
     bool found = false;
     if (slot >= 0) {
         Hit hit;
-        found = trace_ray(nodes, triVertices, load_ray(rayOrigins, rayDirections, slot), false, &hit);
+        found = trace_ray(nodes, trianglePackets, load_ray(rayOrigins, rayDirections, slot), false, &hit);
         hitTriangle[slot] = hit.triangle;
         hitT[slot] = found ? hit.t : INFINITY;
         hitBary[slot] = (float2)(hit.b1, hit.b2);

@@ -1,10 +1,10 @@
 /* Test-only kernels: a brute-force reference for the BVH traversal (the same
- * triangle test over every triangle) and rays spawned from surface points
+ * packet triangle test over every triangle, in BVH order) and rays spawned from surface points
  * with the production offset. */
 #include "geometry/bvh_traversal.h"
 #include "transport/path_state.h"
 
-__kernel void brute_force_closest(__global const float4* triVertices, int triangleCount,
+__kernel void brute_force_closest(__global const TrianglePacket* allTriangles, int packetCount,
                                   __global const float4* rayOrigins,
                                   __global const float4* rayDirections, int rayCount,
                                   __global float* hitT, __global int* hitTriangle)
@@ -16,12 +16,12 @@ __kernel void brute_force_closest(__global const float4* triVertices, int triang
     ShearedRay sheared = shear_ray(ray);
     float tMax = ray.tMax;
     int found = -1;
-    for (int tri = 0; tri < triangleCount; ++tri) {
+    for (int p = 0; p < packetCount; ++p) {
         float t, b1, b2;
-        if (intersect_triangle(&sheared, triVertices[3 * tri].xyz, triVertices[3 * tri + 1].xyz,
-                               triVertices[3 * tri + 2].xyz, tMax, &t, &b1, &b2)) {
+        int lane = intersect_packet(&sheared, &allTriangles[p], tMax, &t, &b1, &b2);
+        if (lane >= 0) {
             tMax = t;
-            found = tri;
+            found = allTriangles[p].triangle[lane];
         }
     }
     hitT[i] = found >= 0 ? tMax : INFINITY;
@@ -30,7 +30,8 @@ __kernel void brute_force_closest(__global const float4* triVertices, int triang
 
 /* From the point with barycentrics (b1, b2) on triangle `sources[i]`, offset
  * along the geometric normal to the side of directions[i], trace closest hit. */
-__kernel void spawn_and_trace(__global const BvhNode* nodes, __global const float4* triVertices,
+__kernel void spawn_and_trace(__global const BvhNode* nodes, __global const TrianglePacket* packets,
+                              __global const float4* triVertices,
                               __global const int* sources, __global const float2* barycentrics,
                               __global const float4* directions, int rayCount,
                               __global float* hitT, __global int* hitTriangle)
@@ -46,13 +47,13 @@ __kernel void spawn_and_trace(__global const BvhNode* nodes, __global const floa
     float3 p = surface_point(v0, v1, v2, b.x, b.y, &error);
     float3 ng = normalize(cross(v1 - v0, v2 - v0));
     Hit hit;
-    trace_ray(nodes, triVertices, spawn_ray(p, error, ng, directions[i].xyz), false, &hit);
+    trace_ray(nodes, packets, spawn_ray(p, error, ng, directions[i].xyz), false, &hit);
     hitT[i] = hit.triangle >= 0 ? hit.t : INFINITY;
     hitTriangle[i] = hit.triangle;
 }
 
 /* Any hit along each ray up to direction.w, with the production traversal. */
-__kernel void any_hit(__global const BvhNode* nodes, __global const float4* triVertices,
+__kernel void any_hit(__global const BvhNode* nodes, __global const TrianglePacket* packets,
                       __global const float4* rayOrigins, __global const float4* rayDirections, int rayCount,
                       __global int* occluded)
 {
@@ -60,5 +61,5 @@ __kernel void any_hit(__global const BvhNode* nodes, __global const float4* triV
     if (i >= rayCount)
         return;
     Hit hit;
-    occluded[i] = trace_ray(nodes, triVertices, load_ray(rayOrigins, rayDirections, i), true, &hit);
+    occluded[i] = trace_ray(nodes, packets, load_ray(rayOrigins, rayDirections, i), true, &hit);
 }
