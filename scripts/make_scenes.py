@@ -18,15 +18,25 @@ base64 data URI); what each one tests is listed in scenes/README.md.
 - caustics: a glass Stanford bunny and a gold Utah teapot on a large floor,
   lit by a tiny, very bright emissive square (meshes from scenes/assets/).
 
+Benchmark scenes, written only when named (too large to keep in the tree;
+scripts/bench_tables.sh writes them into the build directory):
+
+- cornell-box-130k: the Cornell box with each sphere tessellated into 65K
+  triangles (130K in all).
+- displaced-1m: the Cornell box around a displaced sphere of 1M triangles
+  (bumps of 5 % of the radius), lit by the area light.
+
 Usage (from the repository root):
 
     python3 scripts/make_scenes.py                  # writes every scene
     python3 scripts/make_scenes.py caustics -d /tmp # one scene, elsewhere
+    python3 scripts/make_scenes.py displaced-1m -d build/bench-scenes
 
 Only the Python standard library is used and the output is deterministic.
 """
 
 import argparse
+import math
 import os
 
 from scenelib import (SceneBuilder, diffuse, emitter, glass, look_rotation,
@@ -60,14 +70,22 @@ BOX_QUADS = [
 ]
 
 
-def cornell_box(name, without=()):
+def cornell_box(name, without=(), sphere_segments=32, with_spheres=True):
     """The box, its spheres and its camera, minus the quads named in without."""
     scene = SceneBuilder(name)
     for quad_name, material, origin, u, v in BOX_QUADS:
         if quad_name not in without:
             scene.add_mesh(quad_name, quad(origin, u, v), material)
+    if with_spheres:
+        add_spheres(scene, sphere_segments)
+    scene.add_camera(0.68, 1.0, translation=[0.0, 1.0, 3.9])
+    return scene
 
-    sphere = scene.add_geometry(*uv_sphere())
+
+def add_spheres(scene, sphere_segments):
+    """The box's mirror and glass spheres."""
+    sphere = scene.add_geometry(*uv_sphere(sphere_segments,
+                                           sphere_segments // 2))
     spheres = [("mirror_sphere", MIRROR, [-0.45, 0.4, -0.3], 0.4),
                ("glass_sphere", GLASS, [0.5, 0.35, 0.35], 0.35)]
     sphere_nodes = [scene.add_mesh(sphere_name, sphere, material,
@@ -77,8 +95,6 @@ def cornell_box(name, without=()):
     identity = [1.0 if row == col else 0.0
                 for col in range(4) for row in range(4)]
     scene.add_node("objects", matrix=identity, children=sphere_nodes)
-    scene.add_camera(0.68, 1.0, translation=[0.0, 1.0, 3.9])
-    return scene
 
 
 def cornell_box_default():
@@ -145,6 +161,32 @@ def caustics():
     return scene.gltf(GENERATOR, background=[0.02, 0.02, 0.02])
 
 
+def cornell_box_130k():
+    # 256 segments x 128 rings: 2 x 256 x 127 = 65,024 triangles per sphere.
+    return cornell_box("cornell_box_130k", sphere_segments=256).gltf(GENERATOR)
+
+
+def displaced_1m():
+    # 1024 x 512: 2 x 1024 x 511 = 1,046,528 triangles.
+    positions, _, indices = uv_sphere(1024, 512)
+    bumped = []
+    for x, y, z in positions:
+        theta, phi = math.acos(max(-1.0, min(1.0, y))), math.atan2(z, x)
+        r = 1.0 + 0.05 * math.sin(24 * theta) * math.sin(24 * phi)
+        bumped.append((x * r, y * r, z * r))
+    scene = cornell_box("displaced_1m", with_spheres=False)
+    scene.add_mesh("displaced_sphere",
+                   (bumped, smooth_normals(bumped, indices), indices),
+                   diffuse("clay", [0.8, 0.6, 0.45, 1.0]),
+                   translation=[0.0, 0.75, 0.0], scale=[0.7] * 3)
+    return scene.gltf(GENERATOR)
+
+
+BENCH_SCENES = {
+    "cornell-box-130k": cornell_box_130k,
+    "displaced-1m": displaced_1m,
+}
+
 SCENES = {
     "cornell-box": cornell_box_default,
     "cornell-box-point": cornell_box_point,
@@ -157,18 +199,20 @@ SCENES = {
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("scenes", nargs="*", metavar="SCENE",
-                        help="scenes to write (default: all of %s)"
-                             % ", ".join(SCENES))
+                        help="scenes to write (default: all of %s; also %s)"
+                             % (", ".join(SCENES), ", ".join(BENCH_SCENES)))
     parser.add_argument("-d", "--directory",
                         default=os.path.join(REPO_ROOT, "scenes"),
                         help="output directory (default: %(default)s)")
     args = parser.parse_args()
-    unknown = [name for name in args.scenes if name not in SCENES]
+    every = dict(SCENES, **BENCH_SCENES)
+    unknown = [name for name in args.scenes if name not in every]
     if unknown:
         parser.error("unknown scene: " + ", ".join(unknown))
+    os.makedirs(args.directory, exist_ok=True)
     for name in args.scenes or SCENES:
         write_gltf(os.path.join(args.directory, name + ".gltf"),
-                   SCENES[name]())
+                   every[name]())
 
 
 if __name__ == "__main__":

@@ -79,8 +79,8 @@ public:
           allTriangleCount_(0)
     {
         // Every triangle in BVH order, for the brute-force reference.
-        std::vector<TrianglePacket> all =
-            packTriangles(scene.vertices, bvh_.triangleOrder, 0, uint32_t(scene.triangleCount()));
+        std::vector<TrianglePacket> all;
+        appendPackets(scene.vertices, bvh_.triangleOrder, 0, uint32_t(scene.triangleCount()), all);
         allTriangleCount_ = all.size();
         allTriangles_ = uploadBuffer(device_, all.data(), all.size() * sizeof(TrianglePacket), "all triangles");
     }

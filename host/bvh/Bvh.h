@@ -17,18 +17,17 @@ struct Bvh {
     // triangleOrder[i] is the scene triangle stored at BVH position i.
     std::vector<uint32_t> triangleOrder;
     int depth = 0;          // levels of wide nodes
-    size_t binaryNodes = 0; // nodes of the binary tree before collapsing
-    double sahCost = 0;     // of the binary tree: traversal step 1, triangle test 1
+    double sahCost = 0;     // of the binary tree per ray into the root's box: traversal step 1, triangle test 1
     double buildSeconds = 0;
 };
 
 // `vertices` holds three vertices per triangle. Throws if there are none.
 Bvh buildBvh(const std::vector<Vec3>& vertices);
 
-// Packets of BVH positions [begin, begin + count), in order; the vertices of
-// position i are vertices[3 · order[i] + k].
-std::vector<TrianglePacket> packTriangles(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order,
-                                          uint32_t begin, uint32_t count);
+// Appends packets of BVH positions [begin, begin + count), in order; the
+// vertices of position i are vertices[3 · order[i] + k].
+void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
+                   uint32_t count, std::vector<TrianglePacket>& packets);
 
 // The traversal stack's size (BVH_STACK_SIZE in kernels/geometry/bvh_traversal.h):
 // no traversal of a built tree needs more entries.

@@ -341,7 +341,6 @@ int runRender(const RenderOptions& o)
             {"triangles", scene.triangleCount()},
             {"bvh_nodes", bvh.nodes.size()},
             {"bvh_depth", bvh.depth},
-            {"bvh_binary_nodes", bvh.binaryNodes},
             {"bvh_triangle_packets", bvh.packets.size()},
             {"bvh_sah_cost", bvh.sahCost},
             {"bvh_build_seconds", bvh.buildSeconds},
