@@ -451,6 +451,46 @@ TEST(Bvh, CornellBoxMatchesBruteForce)
     checkAgainstBruteForce(scene, rays, "Cornell box");
 }
 
+// A UV sphere of 2 · segments · (rings - 1) triangles.
+std::vector<Vec3> uvSphere(Vec3 centre, float radius, int segments, int rings)
+{
+    auto p = [&](int ring, int segment) {
+        float theta = float(M_PI) * float(ring) / float(rings), phi = 2.0f * float(M_PI) * float(segment) / float(segments);
+        return centre + Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)) * radius;
+    };
+    std::vector<Vec3> v;
+    for (int r = 0; r < rings; ++r)
+        for (int g = 0; g < segments; ++g) {
+            if (r > 0) for (Vec3 q : {p(r, g), p(r, g + 1), p(r + 1, g)}) v.push_back(q);
+            if (r < rings - 1) for (Vec3 q : {p(r, g + 1), p(r + 1, g + 1), p(r + 1, g)}) v.push_back(q);
+        }
+    return v;
+}
+
+// The benchmarks' size of scene: two spheres of 65K triangles each and a
+// tessellated box around them (130K triangles); random rays, rays from the
+// surfaces, and rays at the spheres' vertices.
+TEST(Bvh, LargeSceneMatchesBruteForce)
+{
+    std::vector<Vec3> v = tessellatedCube(4);
+    for (Vec3& q : v) q = q * 2.0f;
+    for (Vec3 q : uvSphere(Vec3(-0.5f, -0.3f, 0.2f), 0.8f, 256, 128)) v.push_back(q);
+    for (Vec3 q : uvSphere(Vec3(0.7f, 0.4f, -0.3f), 0.6f, 256, 128)) v.push_back(q);
+    ASSERT_GT(v.size() / 3, 130000u);
+    Scene scene = test::sceneFromTriangles(v);
+    std::mt19937 rng(4);
+    RaySet rays = randomRays(scene.bounds(), 3000, rng);
+    RaySet onSurface = surfaceRays(scene.vertices, 1000, rng);
+    rays.origins.insert(rays.origins.end(), onSurface.origins.begin(), onSurface.origins.end());
+    rays.directions.insert(rays.directions.end(), onSurface.directions.begin(), onSurface.directions.end());
+    std::uniform_real_distribution<float> inside(-1.5f, 1.5f);
+    for (size_t t = 3 * 24 * 16; t < v.size(); t += 3 * 977) { // at sphere vertices, from inside the box
+        Vec3 o(inside(rng), inside(rng), inside(rng));
+        rays.add(o, normalize(v[t] - o));
+    }
+    checkAgainstBruteForce(scene, rays, "130K-triangle scene");
+}
+
 TEST(Bvh, SharedEdgesAndVerticesMatchBruteForceAndAreWatertight)
 {
     std::vector<Vec3> cube = tessellatedCube(8);
