@@ -14,7 +14,7 @@ rays=${RAYS:-262144}
 min_time=${MIN_TIME:-0.3}
 bench="$build/wavevcm_bench"
 [ -x "$bench" ] || { echo "bench_tables: build $bench first (cmake --build $build)" >&2; exit 1; }
-scenes_dir="$build/bench-scenes"
+scenes_dir="${SCENES_DIR:-$build/bench-scenes}"
 for name in cornell-box-130k displaced-1m; do
   [ -f "$scenes_dir/$name.gltf" ] || python3 scripts/make_scenes.py "$name" -d "$scenes_dir" >&2
 done
