@@ -110,13 +110,17 @@ INLINE bool trace_ray(__global const BvhNode* nodes, __global const TrianglePack
             for (int c = 0; c < BVH_WIDTH; ++c) {
                 if (!(enter[c] <= leave[c]))
                     continue;
+                int child = node->child[c];
+                /* Any hit: leaves, the cheapest candidates, before interior
+                 * nodes (the ray is never shortened, so no entry is culled). */
+                float key = anyHit && child < 0 ? -1.0f : enter[c];
                 int j = stackSize++;
-                for (; j > base && stackEnter[j - 1] < enter[c]; --j) {
+                for (; j > base && stackEnter[j - 1] < key; --j) {
                     stackItem[j] = stackItem[j - 1];
                     stackEnter[j] = stackEnter[j - 1];
                 }
-                stackItem[j] = node->child[c];
-                stackEnter[j] = enter[c];
+                stackItem[j] = child;
+                stackEnter[j] = key;
             }
         } else {
             /* Leaf: its packets, in order. */
