@@ -138,9 +138,7 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
     device.queue.enqueueFillBuffer(radiance, 0.0f, 0, n * 16);
     cl::Kernel k(program, anyHit ? "connect" : "extend");
     KernelBuffers buffers;
-    buffers.nodes = scene.nodes;
-    buffers.trianglePackets = scene.trianglePackets;
-    buffers.triVertices = scene.triVertices;
+    scene.bind(buffers);
     buffers.queueItems = itemBuffer;
     buffers.queueCounters = counterBuffer;
     (anyHit ? buffers.shadowOrigins : buffers.rayOrigins) = o;

@@ -163,9 +163,7 @@ private:
         cl::Kernel k(program_, kernel.c_str());
         if (kernel == "extend") {
             KernelBuffers b;
-            b.nodes = buffers_.nodes;
-            b.trianglePackets = buffers_.trianglePackets;
-            b.triVertices = buffers_.triVertices;
+            buffers_.bind(b);
             b.queueItems = in.items;
             b.queueCounters = in.counters;
             b.rayOrigins = in.origins;
@@ -364,7 +362,7 @@ int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v)
         return children - 1 + deepest;
     };
     int stack = visit(0);
-    EXPECT_LE(stack + 1, kBvhStackSize) << "a traversal could overflow the stack";
+    EXPECT_LE(stack + 1, BVH_STACK_SIZE) << "a traversal could overflow the stack";
     for (size_t n = 0; n < bvh.nodes.size(); ++n)
         if (!nodeSeen[n]) fail("node " + std::to_string(n) + " unreachable");
     for (size_t i = 0; i < triangles; ++i)
@@ -474,6 +472,7 @@ TEST(Bvh, LargeSceneMatchesBruteForce)
 {
     std::vector<Vec3> v = tessellatedCube(4);
     for (Vec3& q : v) q = q * 2.0f;
+    const size_t boxVertices = v.size();
     for (Vec3 q : uvSphere(Vec3(-0.5f, -0.3f, 0.2f), 0.8f, 256, 128)) v.push_back(q);
     for (Vec3 q : uvSphere(Vec3(0.7f, 0.4f, -0.3f), 0.6f, 256, 128)) v.push_back(q);
     ASSERT_GT(v.size() / 3, 130000u);
@@ -484,7 +483,7 @@ TEST(Bvh, LargeSceneMatchesBruteForce)
     rays.origins.insert(rays.origins.end(), onSurface.origins.begin(), onSurface.origins.end());
     rays.directions.insert(rays.directions.end(), onSurface.directions.begin(), onSurface.directions.end());
     std::uniform_real_distribution<float> inside(-1.5f, 1.5f);
-    for (size_t t = 3 * 24 * 16; t < v.size(); t += 3 * 977) { // at sphere vertices, from inside the box
+    for (size_t t = boxVertices; t < v.size(); t += 3 * 977) { // at sphere vertices, from inside the box
         Vec3 o(inside(rng), inside(rng), inside(rng));
         rays.add(o, normalize(v[t] - o));
     }

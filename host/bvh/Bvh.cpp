@@ -247,9 +247,9 @@ public:
 
     void collapse(const BinaryNode* root)
     {
-        if (root->height > kBvhStackSize - 1) throw Error("internal error: the binary BVH is too deep");
+        if (root->height > kMaxBvhDepth) throw Error("internal error: the binary BVH is too deep");
         bvh_.nodes.emplace_back();
-        fill(0, root, kBvhStackSize - 1, 1);
+        fill(0, root, BVH_STACK_SIZE - 1, 1);
     }
 
 private:

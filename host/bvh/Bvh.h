@@ -29,10 +29,8 @@ Bvh buildBvh(const std::vector<Vec3>& vertices);
 void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
                    uint32_t count, std::vector<TrianglePacket>& packets);
 
-// The traversal stack's size (BVH_STACK_SIZE in kernels/geometry/bvh_traversal.h):
-// no traversal of a built tree needs more entries.
-constexpr int kBvhStackSize = 64;
-// The binary tree's depth bound, which lets the wide tree keep within the stack.
-constexpr int kMaxBvhDepth = kBvhStackSize - 1;
+// The binary tree's depth bound (BVH_STACK_SIZE in shared_types.h is the
+// traversal stack): a tree this deep can be collapsed within the stack.
+constexpr int kMaxBvhDepth = BVH_STACK_SIZE - 1;
 
 } // namespace wv

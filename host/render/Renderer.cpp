@@ -73,17 +73,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     pixels_ = settings.width * settings.height;
 
     KernelBuffers& b = buffers_;
-    const SceneBuffers& s = sceneBuffers_;
-    b.nodes = s.nodes;
-    b.trianglePackets = s.trianglePackets;
-    b.triVertices = s.triVertices;
-    b.triNormals = s.triNormals;
-    b.triMaterials = s.triMaterials;
-    b.materials = s.materials;
-    b.lights = s.lights;
-    b.lightCdf = s.lightCdf;
-    b.triangleLight = s.triangleLight;
-    b.scene = s.sceneInfo;
+    sceneBuffers_.bind(b);
     Camera camera = makeCamera(scene.camera, settings.width, settings.height);
     b.camera = uploadBuffer(device, &camera, sizeof camera, "the camera");
     size_t imageBytes = size_t(pixels_) * 16;

@@ -78,4 +78,18 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
                     megabytes(device.info.globalMemory));
 }
 
+void SceneBuffers::bind(KernelBuffers& b) const
+{
+    b.nodes = nodes;
+    b.trianglePackets = trianglePackets;
+    b.triVertices = triVertices;
+    b.triNormals = triNormals;
+    b.triMaterials = triMaterials;
+    b.materials = materials;
+    b.lights = lights;
+    b.lightCdf = lightCdf;
+    b.triangleLight = triangleLight;
+    b.scene = sceneInfo;
+}
+
 } // namespace wv

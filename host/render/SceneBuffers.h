@@ -5,6 +5,7 @@
 #include "../bvh/Bvh.h"
 #include "../cl/DeviceContext.h"
 #include "../scene/Scene.h"
+#include "KernelBindings.h"
 #include "LightTable.h"
 
 namespace wv {
@@ -24,6 +25,10 @@ struct SceneBuffers {
 
     // Throws wv::Error naming the device if a buffer exceeds its limits.
     SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh& bvh, const LightTable& lights);
+
+    // Sets the scene's buffers of a kernel's buffer set (all of SCENE_BUFFERS
+    // but the camera, which depends on the image size).
+    void bind(KernelBuffers& b) const;
 };
 
 // A read-only device buffer holding `bytes` bytes copied from `data`; checks

@@ -10,10 +10,6 @@
 #include "interface/shared_types.h"
 #include "intersect_triangle.h"
 
-/* The host builds trees whose traversal never holds more than this many
- * entries (host/bvh/Bvh.cpp bounds the pushes along every path). */
-#define BVH_STACK_SIZE 64
-
 #if BVH_WIDTH == 8
 typedef float8 floatw;
 #define vloadw vload8

@@ -21,6 +21,10 @@
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
 
+#if TRIANGLE_PACKET_WIDTH != 4
+#error "intersect_packet is written for packets of four triangles (float4)"
+#endif
+
 /* Per-ray constants of the shear transform (eq. in §3 of the paper). */
 typedef struct ShearedRay {
     float ox, oy, oz; /* the origin, permuted like the axes */

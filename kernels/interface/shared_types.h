@@ -24,6 +24,9 @@ typedef uint16_t ushort;
  * packets. The root is node 0. */
 #define BVH_WIDTH 8
 #define BVH_LEAF_MAX_PACKETS 8
+/* Entries of the traversal stack (kernels/geometry/bvh_traversal.h); the
+ * host builds trees whose traversal never needs more (host/bvh/Bvh.cpp). */
+#define BVH_STACK_SIZE 64
 typedef struct BvhNode {
     float bounds[6][BVH_WIDTH];
     int child[BVH_WIDTH];

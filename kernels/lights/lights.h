@@ -58,6 +58,20 @@ INLINE float triangle_light_pdf(float pmf, float area, float dist, float cosLigh
 /* Density of sampling direction `d` from the background light (uniform sphere). */
 INLINE float background_light_pdf(float pmf) { return pmf * (0.25f * INV_PI_F); }
 
+#ifdef HAS_EMISSIVE_TRIANGLES
+/* A uniform point on an emissive triangle, its error bound and the
+ * triangle's (emitting) geometric normal. */
+INLINE float3 sample_triangle_point(__global const float4* triVertices, int triangle, float2 u, float3* error,
+                                    float3* normal)
+{
+    float3 v0 = triVertices[3 * triangle].xyz, v1 = triVertices[3 * triangle + 1].xyz,
+           v2 = triVertices[3 * triangle + 2].xyz;
+    float2 b = sample_triangle(u);
+    *normal = normalize(cross(v1 - v0, v2 - v0));
+    return surface_point(v0, v1, v2, b.x, b.y, error);
+}
+#endif
+
 INLINE bool sample_light(__global const Light* lights, __global const float* cdf,
                          __global const float4* triVertices, __constant const SceneInfo* scene, float3 p, float3 u,
                          LightSample* s)
@@ -72,11 +86,8 @@ INLINE bool sample_light(__global const Light* lights, __global const float* cdf
     switch (l.type) {
 #ifdef HAS_EMISSIVE_TRIANGLES
     case LIGHT_TRIANGLE: {
-        float3 v0 = triVertices[3 * l.triangle].xyz, v1 = triVertices[3 * l.triangle + 1].xyz,
-               v2 = triVertices[3 * l.triangle + 2].xyz;
-        float2 b = sample_triangle(u.yz);
-        float3 q = surface_point(v0, v1, v2, b.x, b.y, &s->lightError);
-        float3 n = normalize(cross(v1 - v0, v2 - v0));
+        float3 n;
+        float3 q = sample_triangle_point(triVertices, l.triangle, u.yz, &s->lightError, &n);
         float3 d = q - p;
         float dist = length(d);
         if (!(dist > 0.0f))
@@ -184,11 +195,7 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
     switch (l.type) {
 #ifdef HAS_EMISSIVE_TRIANGLES
     case LIGHT_TRIANGLE: {
-        float3 v0 = triVertices[3 * l.triangle].xyz, v1 = triVertices[3 * l.triangle + 1].xyz,
-               v2 = triVertices[3 * l.triangle + 2].xyz;
-        float2 b = sample_triangle(u.yz);
-        e->position = surface_point(v0, v1, v2, b.x, b.y, &e->positionError);
-        e->normal = normalize(cross(v1 - v0, v2 - v0));
+        e->position = sample_triangle_point(triVertices, l.triangle, u.yz, &e->positionError, &e->normal);
         Frame f = frame_from_normal(e->normal);
         float3 dirLocal = sample_cosine_hemisphere(v);
         e->direction = to_world(&f, dirLocal);
