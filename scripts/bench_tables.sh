@@ -70,5 +70,6 @@ print("| BVH build | time | triangles/s | SAH cost |")
 print("| --- | --- | --- | --- |")
 for b in load(os.path.join(work, "build.json")):
     n = int(b["name"].split("/")[1])
-    print("| %s triangles | %.2f s | %.2f M | %.2f |" % (format(n, ","), b["real_time"] / 1e3, b["items_per_second"] / 1e6, b["sah_cost"]))
+    sah = "%.2f" % b["sah_cost"] if "sah_cost" in b else "-"  # older builds do not report it
+    print("| %s triangles | %.2f s | %.2f M | %s |" % (format(n, ","), b["real_time"] / 1e3, b["items_per_second"] / 1e6, sah))
 PY
