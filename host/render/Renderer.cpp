@@ -127,8 +127,9 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
         // Light sub-paths, and the light vertices camera paths connect to.
         batch_ = pixels_;
         b.lightPathHead = deviceBuffer(device, size_t(pixels_) * sizeof(int), "the light path heads");
-        vertexBudget_ =
-            std::min<size_t>(device.info.maxAllocation, device.info.globalMemory / 2) / sizeof(LightVertex);
+        size_t bytesPerVertex = sizeof(LightVertex) + (useVM_ ? HashGrid::kBytesPerVertex : 0);
+        vertexBudget_ = std::min<size_t>(device.info.maxAllocation / sizeof(LightVertex),
+                                         device.info.globalMemory / 2 / bytesPerVertex);
         if (settings.maxLightVertices > 0) vertexBudget_ = std::min(vertexBudget_, settings.maxLightVertices);
         Phase& l = lightPhase_;
         l.generate = kernel("generate_light");
@@ -167,7 +168,8 @@ void Renderer::bindAll()
 size_t Renderer::deviceBytes() const
 {
     return sceneBuffers_.bytes + paths_.bytes + size_t(pixels_) * (settings_.techniques ? 128 : 80) +
-           (bidirectional_ ? vertexCapacity_ * sizeof(LightVertex) + size_t(pixels_) * sizeof(int) : 0);
+           (bidirectional_ ? vertexCapacity_ * sizeof(LightVertex) + size_t(pixels_) * sizeof(int) : 0) +
+           (grid_ ? vertexCapacity_ * HashGrid::kBytesPerVertex : 0);
 }
 
 // Makes room for at least `vertices` light vertices (80 bytes each), within
@@ -183,6 +185,7 @@ void Renderer::ensureLightVertexCapacity(size_t vertices)
         grid_->reserve(vertexCapacity_);
         buffers_.bucketStarts = grid_->bucketStarts();
         buffers_.bucketPoints = grid_->bucketPoints();
+        buffers_.bucketVertices = grid_->bucketVertices();
         params_.cellCount = grid_->buckets();
     }
     bindAll();

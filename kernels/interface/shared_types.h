@@ -125,6 +125,19 @@ typedef struct LightVertex {
     float pad[2];
 } LightVertex;
 
+/* What vertex merging reads of a light vertex (merge.cl), copied by the
+ * hash grid's build into bucket order beside its points (hash_grid.h), so
+ * that the vertices a query finds lie together in memory: 48 bytes. */
+typedef struct MergeVertex {
+    float toLight[3];
+    int pathLength;
+    float throughput[3];
+    float dVCM;
+    float dVM;
+    float continuation;
+    float pad[2];
+} MergeVertex;
+
 /* Scene-wide constants the kernels need besides the arrays. */
 typedef struct SceneInfo {
     float center[3]; /* bounding sphere, for infinite lights */

@@ -3,7 +3,9 @@
  * The prefix sum works in chunks: each work-item scans its own chunk
  * serially (scan_chunks), one work-item scans the chunk totals (scan_totals),
  * and every chunk adds its offset (scan_add) — no barriers, which CPU
- * devices run slowly, and few enough chunks for the serial middle step. */
+ * devices run slowly, and few enough chunks for the serial middle step.
+ * The scatter writes each vertex's point and, at the same index, what
+ * merging reads of it (MergeVertex). */
 #include "interface/shared_types.h"
 #include "transport/hash_grid.h"
 
@@ -58,12 +60,22 @@ __kernel void scan_add(__global int* values, int count, int chunk, __global cons
 }
 
 __kernel void grid_scatter(__global const LightVertex* vertices, int count, float cellSize, uint cellCount,
-                           __global const int* bucketStarts, __global int* bucketFill, __global float4* bucketPoints)
+                           __global const int* bucketStarts, __global int* bucketFill, __global float4* bucketPoints,
+                           __global MergeVertex* bucketVertices)
 {
     int i = get_global_id(0);
     if (i >= count)
         return;
-    float3 p = vload3(0, vertices[i].position);
+    __global const LightVertex* v = &vertices[i];
+    float3 p = vload3(0, v->position);
     uint b = grid_bucket(grid_cell(p, cellSize), cellCount);
-    bucketPoints[bucketStarts[b] + atomic_inc(&bucketFill[b])] = (float4)(p, as_float(i));
+    int at = bucketStarts[b] + atomic_inc(&bucketFill[b]);
+    bucketPoints[at] = (float4)(p, as_float(i));
+    __global MergeVertex* m = &bucketVertices[at];
+    vstore3(vload3(0, v->toLight), 0, m->toLight);
+    m->pathLength = v->pathLength;
+    vstore3(vload3(0, v->throughput), 0, m->throughput);
+    m->dVCM = v->dVCM;
+    m->dVM = v->dVM;
+    m->continuation = v->continuation;
 }

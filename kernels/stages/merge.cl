@@ -21,7 +21,8 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
         return;
     /* Most camera vertices have no light vertex within r: find that out from
      * the point and the grid's 16-byte points before building the camera
-     * vertex (normals, frame, BSDF). */
+     * vertex (normals, frame, BSDF). What a found vertex contributes comes
+     * from its MergeVertex, which lies beside its point in bucket order. */
     int tri = hitTriangle[slot];
     if (!material_has_nondelta(&materials[triMaterials[tri]]))
         return;
@@ -30,7 +31,8 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     float radius2 = params.mergeRadius * params.mergeRadius;
     int buckets[8];
     grid_query_buckets(p, 2.0f * params.mergeRadius, params.cellCount, buckets);
-    if (!grid_any_within(bucketStarts, bucketPoints, buckets, p, radius2))
+    int firstBucket, firstPoint;
+    if (!grid_first_within(bucketStarts, bucketPoints, buckets, p, radius2, &firstBucket, &firstPoint))
         return;
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
@@ -38,16 +40,17 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     int depth = hit_depth(pathDepth, slot);
 
     float3 sum = (float3)(0.0f);
-    for (int k = 0; k < 8; ++k) {
+    /* From the first vertex within r on: the ones before are all farther. */
+    for (int k = firstBucket; k < 8; ++k) {
         if (buckets[k] < 0)
             continue;
         int end = bucketStarts[buckets[k] + 1];
-        for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
+        for (int j = k == firstBucket ? firstPoint : bucketStarts[buckets[k]]; j < end; ++j) {
             float4 point = bucketPoints[j];
             float3 d = point.xyz - cv.hit.p;
             if (dot(d, d) > radius2)
                 continue;
-            __global const LightVertex* lv = &lightVertices[as_int(point.w)];
+            __global const MergeVertex* lv = &bucketVertices[j];
             if (!path_fits(depth + lv->pathLength, params.maxPathLength))
                 continue;
             /* The light arrives along the light vertex's incoming direction. */
@@ -61,7 +64,7 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
                 continue;
             float w = 1.0f;
 #ifndef PPM
-            PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
+            PathMis lightMis = {lv->dVCM, 0.0f, lv->dVM}; /* eq. 38 has no dVC term */
             w = mis_weight_merge(lightMis, cv.mis, pdfFwd * cv.continuation, pdfRev * lv->continuation,
                                  params.vcWeightFactor);
 #endif

@@ -15,10 +15,13 @@ INLINE int3 grid_cell(float3 p, float cellSize)
     return (int3)((int)c.x, (int)c.y, (int)c.z);
 }
 
-/* Teschner et al.'s spatial hash, as in SmallVCM. */
+/* Teschner et al.'s spatial hash (SmallVCM's), folded to the table's
+ * 2^k buckets by a multiplicative (Fibonacci) hash: its top k bits mix all
+ * of the hash's bits, where `% cellCount` costs an integer division. */
 INLINE uint grid_bucket(int3 cell, uint cellCount)
 {
-    return (((uint)cell.x * 73856093u) ^ ((uint)cell.y * 19349663u) ^ ((uint)cell.z * 83492791u)) % cellCount;
+    uint h = ((uint)cell.x * 73856093u) ^ ((uint)cell.y * 19349663u) ^ ((uint)cell.z * 83492791u);
+    return (h * 2654435769u) >> (clz(cellCount) + 1);
 }
 
 /* The buckets of the 2×2×2 cells nearest x, with duplicates (two cells
@@ -40,9 +43,11 @@ INLINE void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buc
     }
 }
 
-/* Whether any grid point of the query's buckets lies within sqrt(radius2) of x. */
-INLINE bool grid_any_within(__global const int* bucketStarts, __global const float4* bucketPoints,
-                                   const int buckets[8], float3 x, float radius2)
+/* The first grid point of the query's buckets within sqrt(radius2) of x:
+ * false if there is none, else true with its bucket (k of buckets[k]) and
+ * index in bucketPoints. */
+INLINE bool grid_first_within(__global const int* bucketStarts, __global const float4* bucketPoints,
+                              const int buckets[8], float3 x, float radius2, int* firstBucket, int* firstPoint)
 {
     for (int k = 0; k < 8; ++k) {
         if (buckets[k] < 0)
@@ -50,8 +55,11 @@ INLINE bool grid_any_within(__global const int* bucketStarts, __global const flo
         int end = bucketStarts[buckets[k] + 1];
         for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
             float3 d = bucketPoints[j].xyz - x;
-            if (dot(d, d) <= radius2)
+            if (dot(d, d) <= radius2) {
+                *firstBucket = k;
+                *firstPoint = j;
                 return true;
+            }
         }
     }
     return false;
