@@ -6,6 +6,7 @@
  * One work-item walks its whole light path and traces each shadow ray
  * itself: the number of connections varies per path. */
 #include "core/nan_policy.h"
+#include "core/prefetch.h"
 #include "core/queues.h"
 #include "geometry/bvh_traversal.h"
 #include "geometry/surface.h"
@@ -25,15 +26,20 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
         return;
     if (!material_has_nondelta(&materials[triMaterials[hitTriangle[slot]]]))
         return;
+    int pixel = pathPixel[slot];
+    int last = lightPathHead[pixel - params.firstLightPath];
+    if (last >= 0)
+        PREFETCH(&lightVertices[last], sizeof(LightVertex));
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;
     float3 beta = pathThroughput[slot].xyz;
-    int pixel = pathPixel[slot];
 
     float3 L = (float3)(0.0f);
-    for (int v = lightPathHead[pixel - params.firstLightPath]; v >= 0; v = lightVertices[v].prev) {
+    for (int v = last; v >= 0; v = lightVertices[v].prev) {
         __global const LightVertex* lv = &lightVertices[v];
+        if (lv->prev >= 0) /* needed after this connection: load it meanwhile */
+            PREFETCH(&lightVertices[lv->prev], sizeof(LightVertex));
         if (!path_fits(depth + lv->pathLength + 1, params.maxPathLength))
             continue; /* vertices go from the deepest back: shallower ones may still fit */
         float3 toLight = vload3(0, lv->toLight);

@@ -6,6 +6,7 @@
  * before `shade`, which then moves the path on. No cosine at the camera
  * vertex: the light vertices' density on the surface already carries it. */
 #include "core/nan_policy.h"
+#include "core/prefetch.h"
 #include "core/queues.h"
 #include "geometry/surface.h"
 #include "transport/camera_vertex.h"
@@ -31,9 +32,13 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     float radius2 = params.mergeRadius * params.mergeRadius;
     int buckets[8];
     grid_query_buckets(p, 2.0f * params.mergeRadius, params.cellCount, buckets);
+    for (int k = 0; k < 8; ++k) /* the scan below loads them one after another */
+        if (buckets[k] >= 0)
+            PREFETCH(&bucketStarts[buckets[k]], 8);
     int firstBucket, firstPoint;
     if (!grid_first_within(bucketStarts, bucketPoints, buckets, p, radius2, &firstBucket, &firstPoint))
         return;
+    PREFETCH(&bucketVertices[firstPoint], sizeof(MergeVertex));
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;

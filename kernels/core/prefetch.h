@@ -1,0 +1,22 @@
+/* Prefetch hints: bring a structure's cache lines in before it is used, so
+ * that a dependent load (a light path's next vertex, a hash-grid bucket)
+ * does not stall the work-item on a cache miss. CPU devices only (PoCL
+ * compiles for the host's x86 target, where clang's builtin becomes a
+ * prefetch instruction); elsewhere the hint is nothing. */
+#ifndef WAVEVCM_PREFETCH_H
+#define WAVEVCM_PREFETCH_H
+
+#if defined(__x86_64__) || defined(__i386__)
+/* The first and the last cache line of [p, p + bytes): all of it for what
+ * spans at most two 64-byte lines (an 80-byte LightVertex at 16-byte
+ * alignment, a MergeVertex, a few ints). */
+#define PREFETCH(p, bytes)                                                                                 \
+    do {                                                                                                   \
+        __builtin_prefetch((__global const char*)(p));                                                     \
+        __builtin_prefetch((__global const char*)(p) + (bytes) - 1);                                       \
+    } while (0)
+#else
+#define PREFETCH(p, bytes) ((void)0)
+#endif
+
+#endif
