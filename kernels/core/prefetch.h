@@ -7,6 +7,7 @@
 #define WAVEVCM_PREFETCH_H
 
 #if defined(__x86_64__) || defined(__i386__)
+#define HAS_PREFETCH 1
 /* The first and the last cache line of [p, p + bytes): all of it for what
  * spans at most two 64-byte lines (an 80-byte LightVertex at 16-byte
  * alignment, a MergeVertex, a few ints). */

@@ -13,6 +13,8 @@
 
 __kernel void connect(RENDER_KERNEL_PARAMS)
 {
+    prefetch_ray(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0), shadowOrigins,
+                 shadowDirections);
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
     if (slot < 0)
         return;
@@ -36,6 +38,8 @@ INLINE void atomic_add_float(volatile __global float* p, float v)
 
 __kernel void connect_splat(RENDER_KERNEL_PARAMS)
 {
+    prefetch_ray(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0), shadowOrigins,
+                 shadowDirections);
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
     if (slot < 0)
         return;

@@ -7,6 +7,8 @@
 __kernel void extend(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[8];
+    prefetch_ray(queueItems, queueCounters, params.capacity, params.rayQueue, get_global_id(0), rayOrigins,
+                 rayDirections);
     int slot = queue_item(queueItems, queueCounters, params.capacity, params.rayQueue, get_global_id(0));
     bool found = false;
     if (slot >= 0) {

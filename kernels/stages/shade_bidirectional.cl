@@ -116,6 +116,7 @@ __kernel void shade_bidirectional(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[8];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
+    prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     CameraHitResult r = {0, 0};
     if (slot >= 0)

@@ -17,6 +17,8 @@
 #ifndef WAVEVCM_PATH_STATE_H
 #define WAVEVCM_PATH_STATE_H
 
+#include "core/prefetch.h"
+#include "core/queues.h"
 #include "core/ray.h"
 #include "interface/inline.h"
 #include "interface/kernel_interface.h"
@@ -45,6 +47,54 @@ INLINE void store_ray(__global float4* origins, __global float4* directions, int
 {
     origins[slot] = (float4)(r.origin, 0.0f);
     directions[slot] = (float4)(r.direction, r.tMax);
+}
+
+/* Hints for the path state of queue entries ahead (CPU devices only, see
+ * core/prefetch.h). Queue entries are path slots in no order the caches
+ * can follow, so a kernel's first loads of each slot miss; PoCL runs a
+ * work-group's work-items one after another, so the work-item of entry i
+ * hints what the entries after it will load. prefetch_ray: the ray of entry
+ * i + D. prefetch_hit_state: the hit and path state of entry i + 2D, and the
+ * triangle of entry i + D, whose hit the hint of D entries ago brought in.
+ * Measured on the 2-core machine: vcm -12 %, pt -8 % render time. */
+#define PREFETCH_DISTANCE 4
+
+INLINE void prefetch_ray(__global const int* queueItems, __global const int* queueCounters, int capacity,
+                         int queue, int i, __global const float4* origins, __global const float4* directions)
+{
+#ifdef HAS_PREFETCH
+    int slot = queue_item(queueItems, queueCounters, capacity, queue, i + PREFETCH_DISTANCE);
+    if (slot < 0)
+        return;
+    PREFETCH(&origins[slot], 16);
+    PREFETCH(&directions[slot], 16);
+#endif
+}
+
+INLINE void prefetch_hit_state(const RenderBuffers* b, int capacity, int queue, int i)
+{
+#ifdef HAS_PREFETCH
+    int slot = queue_item(b->queueItems, b->queueCounters, capacity, queue, i + 2 * PREFETCH_DISTANCE);
+    if (slot >= 0) {
+        PREFETCH(&b->hitTriangle[slot], 4);
+        PREFETCH(&b->hitBary[slot], 8);
+        PREFETCH(&b->hitT[slot], 4);
+        PREFETCH(&b->rayDirections[slot], 16);
+        PREFETCH(&b->pathDepth[slot], 4);
+        PREFETCH(&b->pathPixel[slot], 4);
+        PREFETCH(&b->pathThroughput[slot], 16);
+        PREFETCH(&b->pathMis[slot], 16);
+    }
+    slot = queue_item(b->queueItems, b->queueCounters, capacity, queue, i + PREFETCH_DISTANCE);
+    if (slot >= 0) {
+        int tri = b->hitTriangle[slot];
+        PREFETCH(&b->triVertices[3 * tri], 48);
+#ifdef HAS_VERTEX_NORMALS
+        PREFETCH(&b->triNormals[3 * tri], 48);
+#endif
+        PREFETCH(&b->triMaterials[tri], 4);
+    }
+#endif
 }
 
 #endif
