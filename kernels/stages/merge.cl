@@ -4,7 +4,9 @@
  * each merge adds f · throughput_light / (π r² N_light), weighted against all
  * other techniques with dVCM and dVM (eqs. 37-39; ppm: weight 1). It runs
  * before `shade`, which then moves the path on. No cosine at the camera
- * vertex: the light vertices' density on the surface already carries it. */
+ * vertex: the light vertices' density on the surface already carries it.
+ * A candidate is rejected from its 16-byte point; what a vertex within r
+ * contributes comes from its MergeVertex, beside the point in bucket order. */
 #include "core/nan_policy.h"
 #include "core/prefetch.h"
 #include "core/queues.h"
@@ -21,37 +23,26 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot < 0)
         return;
-    /* Most camera vertices have no light vertex within r: find that out from
-     * the point and the grid's 16-byte points before building the camera
-     * vertex (normals, frame, BSDF). What a found vertex contributes comes
-     * from its MergeVertex, which lies beside its point in bucket order. */
     int tri = hitTriangle[slot];
     if (!material_has_nondelta(&materials[triMaterials[tri]]))
         return;
-    float3 pError;
-    float3 p = surface_hit_point(triVertices, tri, hitBary[slot], &pError);
-    float radius2 = params.mergeRadius * params.mergeRadius;
-    int buckets[8];
-    grid_query_buckets(p, 2.0f * params.mergeRadius, params.cellCount, buckets);
-    for (int k = 0; k < 8; ++k) /* the scan below loads them one after another */
-        if (buckets[k] >= 0)
-            PREFETCH(&bucketStarts[buckets[k]], 8);
-    int firstBucket, firstPoint;
-    if (!grid_first_within(bucketStarts, bucketPoints, buckets, p, radius2, &firstBucket, &firstPoint))
-        return;
-    PREFETCH(&bucketVertices[firstPoint], sizeof(MergeVertex));
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;
+    float radius2 = params.mergeRadius * params.mergeRadius;
+    int buckets[8];
+    grid_query_buckets(cv.hit.p, 2.0f * params.mergeRadius, params.cellCount, buckets);
+    for (int k = 0; k < 8; ++k) /* the scan below loads them one after another */
+        if (buckets[k] >= 0)
+            PREFETCH(&bucketStarts[buckets[k]], 8);
     int depth = hit_depth(pathDepth, slot);
 
     float3 sum = (float3)(0.0f);
-    /* From the first vertex within r on: the ones before are all farther. */
-    for (int k = firstBucket; k < 8; ++k) {
+    for (int k = 0; k < 8; ++k) {
         if (buckets[k] < 0)
             continue;
         int end = bucketStarts[buckets[k] + 1];
-        for (int j = k == firstBucket ? firstPoint : bucketStarts[buckets[k]]; j < end; ++j) {
+        for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
             float4 point = bucketPoints[j];
             float3 d = point.xyz - cv.hit.p;
             if (dot(d, d) > radius2)

@@ -43,26 +43,4 @@ INLINE void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buc
     }
 }
 
-/* The first grid point of the query's buckets within sqrt(radius2) of x:
- * false if there is none, else true with its bucket (k of buckets[k]) and
- * index in bucketPoints. */
-INLINE bool grid_first_within(__global const int* bucketStarts, __global const float4* bucketPoints,
-                              const int buckets[8], float3 x, float radius2, int* firstBucket, int* firstPoint)
-{
-    for (int k = 0; k < 8; ++k) {
-        if (buckets[k] < 0)
-            continue;
-        int end = bucketStarts[buckets[k] + 1];
-        for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
-            float3 d = bucketPoints[j].xyz - x;
-            if (dot(d, d) <= radius2) {
-                *firstBucket = k;
-                *firstPoint = j;
-                return true;
-            }
-        }
-    }
-    return false;
-}
-
 #endif
