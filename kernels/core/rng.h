@@ -7,12 +7,17 @@
 
 #include "interface/inline.h"
 
+/* The high 32 bits of a 32x32-bit product, written as one 64-bit multiply:
+ * PoCL's mul_hi builds it from 16-bit partial products, several times the
+ * instructions; x86 and PTX both have the 64-bit (or high-half) multiply. */
+INLINE uint mul_hi32(uint a, uint b) { return (uint)(((ulong)a * (ulong)b) >> 32); }
+
 /* One Philox round: two 32x32->64 multiplies, mixed with the key. */
 INLINE uint4 philox_round(uint4 c, uint2 k)
 {
     const uint M0 = 0xD2511F53u, M1 = 0xCD9E8D57u;
-    return (uint4)(mul_hi(M1, c.z) ^ c.y ^ k.x, M1 * c.z,
-                   mul_hi(M0, c.x) ^ c.w ^ k.y, M0 * c.x);
+    return (uint4)(mul_hi32(M1, c.z) ^ c.y ^ k.x, M1 * c.z,
+                   mul_hi32(M0, c.x) ^ c.w ^ k.y, M0 * c.x);
 }
 
 INLINE uint4 philox4x32_10(uint4 counter, uint2 key)

@@ -34,15 +34,15 @@ INLINE float2 sample_disk(float2 u)
     float2 o = 2.0f * u - 1.0f;
     if (o.x == 0.0f && o.y == 0.0f)
         return (float2)(0.0f);
-    float r, theta;
+    float r, theta; /* the angle in units of π: sinpi/cospi need no argument reduction */
     if (fabs(o.x) > fabs(o.y)) {
         r = o.x;
-        theta = (PI_F / 4.0f) * (o.y / o.x);
+        theta = 0.25f * (o.y / o.x);
     } else {
         r = o.y;
-        theta = PI_F / 2.0f - (PI_F / 4.0f) * (o.x / o.y);
+        theta = 0.5f - 0.25f * (o.x / o.y);
     }
-    return r * (float2)(cos(theta), sin(theta));
+    return r * (float2)(cospi(theta), sinpi(theta));
 }
 
 /* Cosine-weighted hemisphere around +z; pdf = cos θ / π. */
@@ -57,8 +57,8 @@ INLINE float3 sample_uniform_sphere(float2 u)
 {
     float z = 1.0f - 2.0f * u.x;
     float r = sqrt(fmax(0.0f, 1.0f - z * z));
-    float phi = 2.0f * PI_F * u.y;
-    return (float3)(r * cos(phi), r * sin(phi), z);
+    float phi = 2.0f * u.y; /* in units of π */
+    return (float3)(r * cospi(phi), r * sinpi(phi), z);
 }
 
 /* Uniform cone of directions around +z with cos θ ≥ cosMax; pdf = 1 / (2π(1 − cosMax)). */
@@ -66,8 +66,8 @@ INLINE float3 sample_uniform_cone(float2 u, float cosMax)
 {
     float z = 1.0f - u.x * (1.0f - cosMax);
     float r = sqrt(fmax(0.0f, 1.0f - z * z));
-    float phi = 2.0f * PI_F * u.y;
-    return (float3)(r * cos(phi), r * sin(phi), z);
+    float phi = 2.0f * u.y; /* in units of π */
+    return (float3)(r * cospi(phi), r * sinpi(phi), z);
 }
 
 /* Uniform point on a triangle as barycentrics (b1, b2) (Heitz's "low

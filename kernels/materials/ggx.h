@@ -49,8 +49,8 @@ INLINE float3 ggx_sample_visible(float3 wo, float alpha, float2 u)
     float lensq = vh.x * vh.x + vh.y * vh.y;
     float3 t1 = lensq > 0.0f ? (float3)(-vh.y, vh.x, 0.0f) * rsqrt(lensq) : (float3)(1.0f, 0.0f, 0.0f);
     float3 t2 = cross(vh, t1);
-    float r = sqrt(u.x), phi = 2.0f * PI_F * u.y;
-    float p1 = r * cos(phi), p2 = r * sin(phi);
+    float r = sqrt(u.x), phi = 2.0f * u.y; /* in units of π */
+    float p1 = r * cospi(phi), p2 = r * sinpi(phi);
     float s = 0.5f * (1.0f + vh.z);
     p2 = (1.0f - s) * sqrt(fmax(0.0f, 1.0f - p1 * p1)) + s * p2;
     float3 nh = p1 * t1 + p2 * t2 + sqrt(fmax(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
