@@ -12,22 +12,24 @@
  * instructions; x86 and PTX both have the 64-bit (or high-half) multiply. */
 INLINE uint mul_hi32(uint a, uint b) { return (uint)(((ulong)a * (ulong)b) >> 32); }
 
-/* One Philox round: two 32x32->64 multiplies, mixed with the key. */
-INLINE uint4 philox_round(uint4 c, uint2 k)
-{
-    const uint M0 = 0xD2511F53u, M1 = 0xCD9E8D57u;
-    return (uint4)(mul_hi32(M1, c.z) ^ c.y ^ k.x, M1 * c.z,
-                   mul_hi32(M0, c.x) ^ c.w ^ k.y, M0 * c.x);
-}
-
+/* Philox4x32-10 on four scalar words (a uint4 made PoCL move lanes in and
+ * out of vector registers every round): each round two 32x32->64
+ * multiplies, mixed with the key, which then takes a Weyl step. */
 INLINE uint4 philox4x32_10(uint4 counter, uint2 key)
 {
-    const uint2 W = (uint2)(0x9E3779B9u, 0xBB67AE85u); /* Weyl key increments */
-    for (int i = 0; i < 9; ++i) {
-        counter = philox_round(counter, key);
-        key += W;
+    const uint M0 = 0xD2511F53u, M1 = 0xCD9E8D57u;
+    uint c0 = counter.x, c1 = counter.y, c2 = counter.z, c3 = counter.w, k0 = key.x, k1 = key.y;
+    for (int i = 0; i < 10; ++i) {
+        uint hi0 = mul_hi32(M0, c0), lo0 = M0 * c0;
+        uint hi1 = mul_hi32(M1, c2), lo1 = M1 * c2;
+        c0 = hi1 ^ c1 ^ k0;
+        c1 = lo1;
+        c2 = hi0 ^ c3 ^ k1;
+        c3 = lo0;
+        k0 += 0x9E3779B9u;
+        k1 += 0xBB67AE85u;
     }
-    return philox_round(counter, key);
+    return (uint4)(c0, c1, c2, c3);
 }
 
 /* 24 high bits to a float in [0, 1): exact, never rounds up to 1. */
