@@ -34,6 +34,7 @@ void checkCase(const DeviceInfo& info, const Case& c)
         Vec3 p = i % 2 ? Vec3(u(rng), u(rng), u(rng)) : Vec3(0.3f, -0.7f, 0.1f) + Vec3(cluster(rng), cluster(rng), cluster(rng));
         vertices[i] = LightVertex{};
         for (int a = 0; a < 3; ++a) vertices[i].position[a] = p[a];
+        vertices[i].pathLength = i; // the grid copies it: the query kernel sums it as the vertex's index
         positions.push_back(p);
     }
     // Queries: near vertices (within ~r), and anywhere.
@@ -56,7 +57,7 @@ void checkCase(const DeviceInfo& info, const Case& c)
     int arg = 0;
     k.setArg(arg++, vertexBuffer);
     k.setArg(arg++, grid.bucketStarts());
-    k.setArg(arg++, grid.bucketPoints());
+    k.setArg(arg++, grid.bucketVertices());
     k.setArg(arg++, grid.buckets());
     k.setArg(arg++, c.radius);
     k.setArg(arg++, queryBuffer);

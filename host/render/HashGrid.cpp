@@ -31,7 +31,6 @@ void HashGrid::reserve(size_t vertices)
     while (buckets_ < vertices && buckets_ < (1u << 30)) buckets_ *= 2;
     bucketStarts_ = deviceBuffer(device_, (size_t(buckets_) + 1) * sizeof(int), "the hash grid");
     bucketFill_ = deviceBuffer(device_, size_t(buckets_) * sizeof(int), "the hash grid");
-    bucketPoints_ = deviceBuffer(device_, vertices * 16, "the hash grid");
     bucketVertices_ = deviceBuffer(device_, vertices * sizeof(MergeVertex), "the hash grid");
     chunkTotals_ = deviceBuffer(device_, (size_t(buckets_) / kScanChunk + 2) * sizeof(int), "the hash grid");
 }
@@ -59,7 +58,7 @@ void HashGrid::build(const cl::Buffer& vertices, int count, float radius)
     setArgs(scanChunks_, bucketStarts_, int(buckets_), int(kScanChunk), chunkTotals_, chunks);
     setArgs(scanTotals_, chunkTotals_, chunks);
     setArgs(scanAdd_, bucketStarts_, int(buckets_), int(kScanChunk), chunkTotals_);
-    setArgs(scatter_, vertices, count, cellSize, buckets_, bucketStarts_, bucketFill_, bucketPoints_, bucketVertices_);
+    setArgs(scatter_, vertices, count, cellSize, buckets_, bucketStarts_, bucketFill_, bucketVertices_);
     if (count > 0) launch(count_, size_t(count));
     launch(scanChunks_, size_t(chunks));
     launch(scanTotals_, 1);

@@ -21,16 +21,15 @@ public:
     // (SmallVCM), a power of two.
     void reserve(size_t vertices);
 
-    // Device bytes per vertex of capacity: point, MergeVertex, and up to two
+    // Device bytes per vertex of capacity: its MergeVertex and up to two
     // buckets' start and fill counters.
-    static constexpr size_t kBytesPerVertex = 16 + sizeof(MergeVertex) + 2 * 2 * sizeof(int);
+    static constexpr size_t kBytesPerVertex = sizeof(MergeVertex) + 2 * 2 * sizeof(int);
 
     // Enqueues the build over vertices[0, count) of a LightVertex buffer for
     // query radius `radius`.
     void build(const cl::Buffer& vertices, int count, float radius);
 
     const cl::Buffer& bucketStarts() const { return bucketStarts_; }     // int[buckets + 1]
-    const cl::Buffer& bucketPoints() const { return bucketPoints_; } // float4[vertices]: position, as_float(index)
     const cl::Buffer& bucketVertices() const { return bucketVertices_; } // MergeVertex[vertices], same order
     uint32_t buckets() const { return buckets_; }
 
@@ -42,7 +41,7 @@ private:
 
     DeviceContext& device_;
     cl::Kernel count_, scanChunks_, scanTotals_, scanAdd_, scatter_;
-    cl::Buffer bucketStarts_, bucketFill_, bucketPoints_, bucketVertices_, chunkTotals_;
+    cl::Buffer bucketStarts_, bucketFill_, bucketVertices_, chunkTotals_;
     uint32_t buckets_ = 0;
     size_t capacity_ = 0;
 };

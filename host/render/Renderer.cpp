@@ -184,7 +184,6 @@ void Renderer::ensureLightVertexCapacity(size_t vertices)
     if (grid_) {
         grid_->reserve(vertexCapacity_);
         buffers_.bucketStarts = grid_->bucketStarts();
-        buffers_.bucketPoints = grid_->bucketPoints();
         buffers_.bucketVertices = grid_->bucketVertices();
         params_.cellCount = grid_->buckets();
     }

@@ -18,7 +18,7 @@ static_assert(sizeof(Material) == 80, "Material layout");
 static_assert(sizeof(Light) == 64, "Light layout");
 static_assert(sizeof(SceneInfo) == 32, "SceneInfo layout");
 static_assert(sizeof(LightVertex) == 80, "LightVertex layout");
-static_assert(sizeof(MergeVertex) == 48, "MergeVertex layout");
+static_assert(sizeof(MergeVertex) == 64, "MergeVertex layout");
 
 // A camera as the glTF file describes it, before an image size is chosen.
 struct CameraView {

@@ -70,7 +70,6 @@ namespace wv {
     X(__global, LightVertex, lightVertices, 0)                                                             \
     X(__global, int, lightPathHead, 0)       /* last stored vertex per light path of the batch */          \
     X(__global, int, bucketStarts, 0)        /* hash grid (hash_grid.h): first entry per bucket, +1 */     \
-    X(__global, float4, bucketPoints, 0)     /* hash grid: position, as_float(vertex index), bucket order */ \
     X(__global, MergeVertex, bucketVertices, 0) /* hash grid: the vertices as merging reads them, bucket order */
 
 #define RENDER_BUFFERS(X) SCENE_BUFFERS(X) PATH_STATE_BUFFERS(X) IMAGE_BUFFERS(X) LIGHT_PATH_BUFFERS(X)

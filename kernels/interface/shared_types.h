@@ -125,17 +125,19 @@ typedef struct LightVertex {
     float pad[2];
 } LightVertex;
 
-/* What vertex merging reads of a light vertex (merge.cl), copied by the
- * hash grid's build into bucket order beside its points (hash_grid.h), so
- * that the vertices a query finds lie together in memory: 48 bytes. */
+/* A light vertex as vertex merging reads it (merge.cl), copied by the hash
+ * grid's build into bucket order (hash_grid.h): a query tests the position
+ * and finds the rest on the same 64-byte cache line, and the vertices of one
+ * bucket lie one after another. */
 typedef struct MergeVertex {
-    float toLight[3];
+    float position[3];
     int pathLength;
-    float throughput[3];
+    float toLight[3];
     float dVCM;
+    float throughput[3];
     float dVM;
     float continuation;
-    float pad[2];
+    float pad[3];
 } MergeVertex;
 
 /* Scene-wide constants the kernels need besides the arrays. */

@@ -4,8 +4,7 @@
  * serially (scan_chunks), one work-item scans the chunk totals (scan_totals),
  * and every chunk adds its offset (scan_add) — no barriers, which CPU
  * devices run slowly, and few enough chunks for the serial middle step.
- * The scatter writes each vertex's point and, at the same index, what
- * merging reads of it (MergeVertex). */
+ * The scatter writes each vertex as merging reads it (MergeVertex). */
 #include "interface/shared_types.h"
 #include "transport/hash_grid.h"
 
@@ -60,7 +59,7 @@ __kernel void scan_add(__global int* values, int count, int chunk, __global cons
 }
 
 __kernel void grid_scatter(__global const LightVertex* vertices, int count, float cellSize, uint cellCount,
-                           __global const int* bucketStarts, __global int* bucketFill, __global float4* bucketPoints,
+                           __global const int* bucketStarts, __global int* bucketFill,
                            __global MergeVertex* bucketVertices)
 {
     int i = get_global_id(0);
@@ -69,13 +68,12 @@ __kernel void grid_scatter(__global const LightVertex* vertices, int count, floa
     __global const LightVertex* v = &vertices[i];
     float3 p = vload3(0, v->position);
     uint b = grid_bucket(grid_cell(p, cellSize), cellCount);
-    int at = bucketStarts[b] + atomic_inc(&bucketFill[b]);
-    bucketPoints[at] = (float4)(p, as_float(i));
-    __global MergeVertex* m = &bucketVertices[at];
-    vstore3(vload3(0, v->toLight), 0, m->toLight);
+    __global MergeVertex* m = &bucketVertices[bucketStarts[b] + atomic_inc(&bucketFill[b])];
+    vstore3(p, 0, m->position);
     m->pathLength = v->pathLength;
-    vstore3(vload3(0, v->throughput), 0, m->throughput);
+    vstore3(vload3(0, v->toLight), 0, m->toLight);
     m->dVCM = v->dVCM;
+    vstore3(vload3(0, v->throughput), 0, m->throughput);
     m->dVM = v->dVM;
     m->continuation = v->continuation;
 }

@@ -5,8 +5,8 @@
  * other techniques with dVCM and dVM (eqs. 37-39; ppm: weight 1). It runs
  * before `shade`, which then moves the path on. No cosine at the camera
  * vertex: the light vertices' density on the surface already carries it.
- * A candidate is rejected from its 16-byte point; what a vertex within r
- * contributes comes from its MergeVertex, beside the point in bucket order. */
+ * Each candidate is one cache line (MergeVertex), its bucket's candidates
+ * one after another. */
 #include "core/nan_policy.h"
 #include "core/prefetch.h"
 #include "core/queues.h"
@@ -43,11 +43,10 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
             continue;
         int end = bucketStarts[buckets[k] + 1];
         for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
-            float4 point = bucketPoints[j];
-            float3 d = point.xyz - cv.hit.p;
+            __global const MergeVertex* lv = &bucketVertices[j];
+            float3 d = vload3(0, lv->position) - cv.hit.p;
             if (dot(d, d) > radius2)
                 continue;
-            __global const MergeVertex* lv = &bucketVertices[j];
             if (!path_fits(depth + lv->pathLength, params.maxPathLength))
                 continue;
             /* The light arrives along the light vertex's incoming direction. */

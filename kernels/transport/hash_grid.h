@@ -1,9 +1,8 @@
 /* The hash grid over light vertices (SmallVCM's hashgrid.hxx, on the
  * device): cells of size 2r hashed into `cellCount` buckets; bucket b holds
- * the vertices bucketPoints[bucketStarts[b], bucketStarts[b+1]), each as a
- * float4 of its position and, in w, its index (as_float): a query rejects a
- * candidate from 16 bytes before loading its 80-byte LightVertex. A query
- * sphere of radius r around x lies within the 2×2×2 cells nearest x. */
+ * the vertices bucketVertices[bucketStarts[b], bucketStarts[b+1]), each a
+ * 64-byte MergeVertex. A query sphere of radius r around x lies within the
+ * 2×2×2 cells nearest x. */
 #ifndef WAVEVCM_HASH_GRID_H
 #define WAVEVCM_HASH_GRID_H
 

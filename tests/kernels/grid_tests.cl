@@ -5,7 +5,7 @@
 #include "transport/hash_grid.h"
 
 __kernel void grid_query(__global const LightVertex* vertices, __global const int* bucketStarts,
-                         __global const float4* bucketPoints, uint buckets, float radius,
+                         __global const MergeVertex* bucketVertices, uint buckets, float radius,
                          __global const float4* queries, int queryCount, __global int* found,
                          __global long* indexSums)
 {
@@ -21,9 +21,8 @@ __kernel void grid_query(__global const LightVertex* vertices, __global const in
         if (b[k] < 0)
             continue;
         for (int j = bucketStarts[b[k]]; j < bucketStarts[b[k] + 1]; ++j) {
-            float4 point = bucketPoints[j];
-            int v = as_int(point.w);
-            float3 d = point.xyz - x;
+            int v = bucketVertices[j].pathLength; /* the test gives each vertex its index there */
+            float3 d = vload3(0, bucketVertices[j].position) - x;
             if (dot(d, d) <= radius * radius) {
                 ++n;
                 sum += v;
