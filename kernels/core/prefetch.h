@@ -9,8 +9,8 @@
 #if defined(__x86_64__) || defined(__i386__)
 #define HAS_PREFETCH 1
 /* The first and the last cache line of [p, p + bytes): all of it for what
- * spans at most two 64-byte lines (an 80-byte LightVertex at 16-byte
- * alignment, a MergeVertex, a few ints). */
+ * spans at most two 64-byte lines (an 80-byte LightVertex or a triangle's
+ * 48 bytes of vertices at 16-byte alignment, a few ints). */
 #define PREFETCH(p, bytes)                                                                                 \
     do {                                                                                                   \
         __builtin_prefetch((__global const char*)(p));                                                     \
