@@ -87,11 +87,12 @@ def world_nodes(gltf):
 
 
 def write_ply(path, positions, normals, faces):
+    """normals: None for a flat-shaded mesh (no vertex normals, as in glTF)."""
     header = ("ply\nformat binary_little_endian 1.0\nelement vertex %d\n"
-              "property float x\nproperty float y\nproperty float z\n"
-              "property float nx\nproperty float ny\nproperty float nz\n"
-              "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (len(positions), len(faces)))
-    vertices = np.hstack([positions, normals]).astype("<f4")
+              "property float x\nproperty float y\nproperty float z\n" % len(positions) +
+              ("property float nx\nproperty float ny\nproperty float nz\n" if normals is not None else "") +
+              "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % len(faces))
+    vertices = (positions if normals is None else np.hstack([positions, normals])).astype("<f4")
     face_rows = np.zeros(len(faces), dtype=[("n", "u1"), ("v", "<i4", 3)])
     face_rows["n"] = 3
     face_rows["v"] = faces
@@ -120,8 +121,11 @@ def mitsuba_bsdf(material, name):
 
 
 def mitsuba_scene(path, width, height, max_depth, mesh_dir):
-    with open(path) as f:
-        gltf = json.load(f)
+    try:
+        with open(path) as f:
+            gltf = json.load(f)
+    except (OSError, ValueError) as e:
+        sys.exit("compare_mitsuba: %s: cannot read it as glTF JSON (%s)" % (path, e))
     buffers = load_buffers(gltf, os.path.dirname(path))
     os.makedirs(mesh_dir, exist_ok=True)
     scene = {"type": "scene", "integrator": {"type": "path", "max_depth": max_depth}}
@@ -134,16 +138,24 @@ def mitsuba_scene(path, width, height, max_depth, mesh_dir):
         normal_matrix = np.linalg.inv(m[:3, :3]).T
         for k, prim in enumerate(gltf["meshes"][node["mesh"]]["primitives"]):
             if prim.get("mode", 4) != 4:
-                sys.exit("compare_mitsuba: only triangle lists are converted")
+                sys.exit("compare_mitsuba: %s: mesh %d has a primitive that is not a triangle list, "
+                         "which this converter does not handle" % (path, node["mesh"]))
             p = accessor(gltf, buffers, prim["attributes"]["POSITION"]).astype(np.float64)
-            n = accessor(gltf, buffers, prim["attributes"]["NORMAL"]).astype(np.float64)
-            idx = accessor(gltf, buffers, prim["indices"]).reshape(-1, 3).astype(np.int32)
+            if "indices" in prim:
+                idx = accessor(gltf, buffers, prim["indices"]).reshape(-1, 3).astype(np.int32)
+            else:
+                idx = np.arange(len(p), dtype=np.int32).reshape(-1, 3)
             p = p @ m[:3, :3].T + m[:3, 3]
-            n = n @ normal_matrix.T
-            n /= np.linalg.norm(n, axis=1, keepdims=True)
-            name = "%s_%d" % (node.get("name", "mesh"), k)
+            n = None
+            if "NORMAL" in prim["attributes"]:
+                n = accessor(gltf, buffers, prim["attributes"]["NORMAL"]).astype(np.float64) @ normal_matrix.T
+                n /= np.linalg.norm(n, axis=1, keepdims=True)
+            name = "shape%d_%s_%d" % (len(scene), node.get("name", "mesh"), k)  # unique, names may repeat
             ply = os.path.join(mesh_dir, name + ".ply")
             write_ply(ply, p, n, idx)
+            if "material" not in prim:
+                sys.exit("compare_mitsuba: %s: a primitive of mesh %d has no material (glTF's default, "
+                         "a rough white metal, has no Mitsuba counterpart here)" % (path, node["mesh"]))
             material = gltf["materials"][prim["material"]]
             shape = {"type": "ply", "filename": ply, "bsdf": mitsuba_bsdf(material, material.get("name", "?"))}
             emissive = material.get("emissiveFactor", [0, 0, 0])
