@@ -40,6 +40,15 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
     return options;
 }
 
+// The binary search of light selection as a fixed number of steps
+// (kernels/lights/lights.h): the bits of the largest light index.
+std::string lightSelectOption(int lightCount)
+{
+    int steps = 0;
+    while (steps < 31 && (1 << steps) < lightCount) ++steps;
+    return " -DLIGHT_SELECT_STEPS=" + std::to_string(steps);
+}
+
 int defaultWavefront(const DeviceInfo& device)
 {
     size_t wanted = (device.type & CL_DEVICE_TYPE_GPU) ? (size_t(1) << 21) : (size_t(1) << 18);

@@ -136,5 +136,6 @@ private:
 // Default wavefront capacity: ~256K paths on a CPU, 2M on a GPU, at most what
 // a quarter of the device's memory holds.
 int defaultWavefront(const DeviceInfo& device);
+std::string lightSelectOption(int lightCount);
 
 } // namespace wv

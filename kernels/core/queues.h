@@ -10,6 +10,18 @@
 /* No counter (a lane of group_allocate4 that nobody wants). */
 #define NO_COUNTER (-1)
 
+/* Four ints, one per lane of group_allocate4: a struct of scalars rather than
+ * an int4, which would keep PoCL from vectorizing the kernel (core/vec3.h). */
+typedef struct Lanes {
+    int x, y, z, w;
+} Lanes;
+
+INLINE Lanes lanes(int x, int y, int z, int w)
+{
+    Lanes l = {x, y, z, w};
+    return l;
+}
+
 /* For each of up to four counters (lanes x, y, z, w of `counter`), the next
  * index of that counter for every work-item that `wants` one in that lane,
  * -1 for the others. Aggregated per work-group: one global atomic per counter
@@ -19,36 +31,34 @@
  * three barriers, and on PoCL each barrier splits the work-group loop and
  * spills the live values. Every work-item of the group must call it, once
  * per kernel; `scratch` is __local int[8]. */
-INLINE int4 group_allocate4(__global int* counters, int4 counter, int4 wants, __local int* scratch)
+INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants, __local int* scratch)
 {
     if (get_local_id(0) == 0)
-        vstore4((int4)(0), 0, scratch);
+        scratch[0] = scratch[1] = scratch[2] = scratch[3] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    int4 index;
+    Lanes index;
     index.x = wants.x ? atomic_inc(&scratch[0]) : 0;
     index.y = wants.y ? atomic_inc(&scratch[1]) : 0;
     index.z = wants.z ? atomic_inc(&scratch[2]) : 0;
     index.w = wants.w ? atomic_inc(&scratch[3]) : 0;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (get_local_id(0) == 0) {
-        int4 n = vload4(0, scratch);
-        int4 base;
-        base.x = n.x > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.x)], n.x) : 0;
-        base.y = n.y > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.y)], n.y) : 0;
-        base.z = n.z > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.z)], n.z) : 0;
-        base.w = n.w > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.w)], n.w) : 0;
-        vstore4(base, 1, scratch);
+        scratch[4] = scratch[0] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.x)], scratch[0]) : 0;
+        scratch[5] = scratch[1] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.y)], scratch[1]) : 0;
+        scratch[6] = scratch[2] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.z)], scratch[2]) : 0;
+        scratch[7] = scratch[3] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.w)], scratch[3]) : 0;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    return select((int4)(-1), vload4(1, scratch) + index, wants != 0);
+    return lanes(wants.x ? scratch[4] + index.x : -1, wants.y ? scratch[5] + index.y : -1,
+                 wants.z ? scratch[6] + index.z : -1, wants.w ? scratch[7] + index.w : -1);
 }
 
 /* Appends `slot` to each queue of `queues` whose lane of `push` is set
  * (group_allocate4's rules apply; unused lanes: NO_COUNTER, push 0). */
-INLINE void queue_push4(__global int* items, __global int* counters, int capacity, int4 queues, int4 push,
-                                int slot, __local int* scratch)
+INLINE void queue_push4(__global int* items, __global int* counters, int capacity, Lanes queues, Lanes push, int slot,
+                        __local int* scratch)
 {
-    int4 at = group_allocate4(counters, queues, push, scratch);
+    Lanes at = group_allocate4(counters, queues, push, scratch);
     if (at.x >= 0)
         items[queues.x * capacity + at.x] = slot;
     if (at.y >= 0)

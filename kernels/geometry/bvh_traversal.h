@@ -39,8 +39,8 @@ typedef struct BoxRay {
 INLINE BoxRay box_ray(Ray ray)
 {
     BoxRay r;
-    r.origin = ray.origin;
-    r.invDir = 1.0f / ray.direction;
+    r.origin = to_float3(ray.origin);
+    r.invDir = 1.0f / to_float3(ray.direction);
     int3 negative = signbit(r.invDir);
     r.near[0] = negative.x ? 3 : 0; r.far[0] = 3 - r.near[0];
     r.near[1] = negative.y ? 4 : 1; r.far[1] = 5 - r.near[1];

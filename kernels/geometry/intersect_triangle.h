@@ -32,12 +32,12 @@ typedef struct ShearedRay {
     float sx, sy, sz;
 } ShearedRay;
 
-INLINE float component(float3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
+INLINE float component(vec3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 
 INLINE ShearedRay shear_ray(Ray ray)
 {
     ShearedRay s;
-    float3 a = fabs(ray.direction);
+    vec3 a = v3_abs(ray.direction);
     s.kz = (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
     s.kx = s.kz == 2 ? 0 : s.kz + 1;
     s.ky = s.kx == 2 ? 0 : s.kx + 1;

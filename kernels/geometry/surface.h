@@ -7,36 +7,46 @@
 
 #include "core/ray.h"
 #include "core/sampling.h"
+#include "core/vec3.h"
 #include "interface/inline.h"
 
-INLINE float3 geometric_normal(__global const float4* triVertices, int tri)
+/* Vertex k (0-2) of triangle `tri`; `normals` work the same way. */
+INLINE vec3 triangle_vertex(__global const float4* triVertices, int tri, int k)
 {
-    float3 v0 = triVertices[3 * tri].xyz;
-    return normalize(cross(triVertices[3 * tri + 1].xyz - v0, triVertices[3 * tri + 2].xyz - v0));
+    return load_vec3(triVertices, 3 * tri + k);
+}
+
+INLINE vec3 triangle_normal(vec3 v0, vec3 v1, vec3 v2) { return v3_normalize(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))); }
+
+INLINE vec3 geometric_normal(__global const float4* triVertices, int tri)
+{
+    return triangle_normal(triangle_vertex(triVertices, tri, 0), triangle_vertex(triVertices, tri, 1),
+                           triangle_vertex(triVertices, tri, 2));
 }
 
 #ifdef HAS_VERTEX_NORMALS
 /* Falls back to the geometric normal where the interpolated normal vanishes. */
-INLINE float3 shading_normal(__global const float4* triNormals, int tri, float2 bary, float3 ng)
+INLINE vec3 shading_normal(__global const float4* triNormals, int tri, vec2 bary, vec3 ng)
 {
-    float3 n = (1.0f - bary.x - bary.y) * triNormals[3 * tri].xyz +
-               bary.x * triNormals[3 * tri + 1].xyz + bary.y * triNormals[3 * tri + 2].xyz;
-    float len = length(n);
-    return len > 1e-12f ? n / len : ng;
+    vec3 n = v3_add(v3_add(v3_scale(triangle_vertex(triNormals, tri, 0), 1.0f - bary.x - bary.y),
+                           v3_scale(triangle_vertex(triNormals, tri, 1), bary.x)),
+                    v3_scale(triangle_vertex(triNormals, tri, 2), bary.y));
+    float len = v3_length(n);
+    return len > 1e-12f ? v3_div(n, len) : ng;
 }
 #endif
 
 /* The point at barycentrics `bary` of triangle `tri`, with its error bound
  * (the p of surface_hit, for kernels that need only the point first). */
-INLINE float3 surface_hit_point(__global const float4* triVertices, int tri, float2 bary, float3* error)
+INLINE vec3 surface_hit_point(__global const float4* triVertices, int tri, vec2 bary, vec3* error)
 {
-    return surface_point(triVertices[3 * tri].xyz, triVertices[3 * tri + 1].xyz, triVertices[3 * tri + 2].xyz,
-                         bary.x, bary.y, error);
+    return surface_point(triangle_vertex(triVertices, tri, 0), triangle_vertex(triVertices, tri, 1),
+                         triangle_vertex(triVertices, tri, 2), bary.x, bary.y, error);
 }
 
 typedef struct SurfaceHit {
-    float3 p, pError;
-    float3 ngF, nsF;  /* geometric and shading normal, flipped to the side of w */
+    vec3 p, pError;
+    vec3 ngF, nsF;    /* geometric and shading normal, flipped to the side of w */
     Frame frame;      /* around nsF */
     bool frontSide;   /* w is on the side the geometric normal points to */
 } SurfaceHit;
@@ -46,20 +56,20 @@ typedef struct SurfaceHit {
  * the surface from w than the geometric one is unusable; the geometric
  * normal replaces it. */
 INLINE SurfaceHit surface_hit(__global const float4* triVertices, __global const float4* triNormals, int tri,
-                              float2 bary, float3 w)
+                              vec2 bary, vec3 w)
 {
     SurfaceHit h;
-    float3 v0 = triVertices[3 * tri].xyz, v1 = triVertices[3 * tri + 1].xyz, v2 = triVertices[3 * tri + 2].xyz;
-    h.p = surface_hit_point(triVertices, tri, bary, &h.pError);
-    float3 ng = normalize(cross(v1 - v0, v2 - v0));
-    h.frontSide = dot(w, ng) > 0.0f;
-    h.ngF = h.frontSide ? ng : -ng;
+    vec3 v0 = triangle_vertex(triVertices, tri, 0), v1 = triangle_vertex(triVertices, tri, 1),
+         v2 = triangle_vertex(triVertices, tri, 2);
+    h.p = surface_point(v0, v1, v2, bary.x, bary.y, &h.pError);
+    vec3 ng = triangle_normal(v0, v1, v2);
+    h.frontSide = v3_dot(w, ng) > 0.0f;
+    h.ngF = h.frontSide ? ng : v3_neg(ng);
     h.nsF = h.ngF;
 #ifdef HAS_VERTEX_NORMALS
-    float3 ns = shading_normal(triNormals, tri, bary, ng);
-    ns = h.frontSide ? ns : -ns;
-    if (dot(ns, w) > 0.0f)
-        h.nsF = ns;
+    vec3 ns = shading_normal(triNormals, tri, bary, ng);
+    ns = h.frontSide ? ns : v3_neg(ns);
+    h.nsF = v3_dot(ns, w) > 0.0f ? ns : h.nsF;
 #endif
     h.frame = frame_from_normal(h.nsF);
     return h;
@@ -68,19 +78,19 @@ INLINE SurfaceHit surface_hit(__global const float4* triVertices, __global const
 /* Shading and geometric normal agree on the side of a direction; where they
  * do not, light would leak through the surface, so such directions carry
  * nothing. */
-INLINE bool sides_agree(const SurfaceHit* h, float3 dirWorld, float3 dirLocal)
+INLINE bool sides_agree(const SurfaceHit* h, vec3 dirWorld, vec3 dirLocal)
 {
-    return (dirLocal.z > 0.0f) == (dot(dirWorld, h->ngF) > 0.0f);
+    return (dirLocal.z > 0.0f) == (v3_dot(dirWorld, h->ngF) > 0.0f);
 }
 
 /* The factor that makes the BSDF with shading normals the adjoint of itself
  * for importance transport (Veach 1997, eq. 5.19):
  * |w_fixed·ns| |w_other·ng| / (|w_fixed·ng| |w_other·ns|), where w_fixed
  * points back along the light path and w_other towards the camera side. */
-INLINE float adjoint_shading_correction(const SurfaceHit* h, float3 wFixed, float3 wOther)
+INLINE float adjoint_shading_correction(const SurfaceHit* h, vec3 wFixed, vec3 wOther)
 {
-    float denominator = fabs(dot(wFixed, h->ngF)) * fabs(dot(wOther, h->nsF));
-    return denominator > 0.0f ? fabs(dot(wFixed, h->nsF)) * fabs(dot(wOther, h->ngF)) / denominator : 0.0f;
+    float denominator = fabs(v3_dot(wFixed, h->ngF)) * fabs(v3_dot(wOther, h->nsF));
+    return denominator > 0.0f ? fabs(v3_dot(wFixed, h->nsF)) * fabs(v3_dot(wOther, h->ngF)) / denominator : 0.0f;
 }
 
 #endif

@@ -5,18 +5,20 @@
 #define WAVEVCM_CAMERA_H
 
 #include "core/ray.h"
+#include "core/vec3.h"
 #include "interface/inline.h"
 #include "interface/shared_types.h"
 
-INLINE Ray camera_ray(__constant const Camera* cam, int pixel, float2 jitter)
+INLINE Ray camera_ray(__constant const Camera* cam, int pixel, float jitterX, float jitterY)
 {
-    float x = (float)(pixel % cam->width) + jitter.x;
-    float y = (float)(pixel / cam->width) + jitter.y;
+    float x = (float)(pixel % cam->width) + jitterX;
+    float y = (float)(pixel / cam->width) + jitterY;
     float sx = 2.0f * x / (float)cam->width - 1.0f;
     float sy = 1.0f - 2.0f * y / (float)cam->height;
     Ray r;
-    r.origin = vload3(0, cam->position);
-    r.direction = normalize(vload3(0, cam->forward) + sx * vload3(0, cam->right) + sy * vload3(0, cam->up));
+    r.origin = load3c(cam->position);
+    r.direction = v3_normalize(
+        v3_add(v3_add(load3c(cam->forward), v3_scale(load3c(cam->right), sx)), v3_scale(load3c(cam->up), sy)));
     r.tMax = INFINITY;
     return r;
 }
@@ -25,27 +27,25 @@ INLINE Ray camera_ray(__constant const Camera* cam, int pixel, float2 jitter)
  * is chosen uniformly over one pixel: the image plane sits where a pixel has
  * area 1, at distance H / (2 tan(fov/2)), and the density is
  * distance(image point)² / cos θ (SmallVCM's convention). */
-INLINE float camera_pdf_w(__constant const Camera* cam, float3 d)
+INLINE float camera_pdf_w(__constant const Camera* cam, vec3 d)
 {
-    float cosAtCamera = dot(d, vload3(0, cam->forward));
-    if (cosAtCamera <= 0.0f)
-        return 0.0f;
-    float imagePlaneDistance = (float)cam->height / (2.0f * length(vload3(0, cam->up)));
+    float cosAtCamera = v3_dot(d, load3c(cam->forward));
+    float imagePlaneDistance = (float)cam->height / (2.0f * v3_length(load3c(cam->up)));
     float imagePointDistance = imagePlaneDistance / cosAtCamera;
-    return imagePointDistance * imagePointDistance / cosAtCamera;
+    return cosAtCamera > 0.0f ? imagePointDistance * imagePointDistance / cosAtCamera : 0.0f;
 }
 
 /* The pixel a world point projects to, or -1 when it is behind the camera
  * or outside the image. */
-INLINE int camera_pixel(__constant const Camera* cam, float3 point)
+INLINE int camera_pixel(__constant const Camera* cam, vec3 point)
 {
-    float3 d = point - vload3(0, cam->position);
-    float depth = dot(d, vload3(0, cam->forward));
+    vec3 d = v3_sub(point, load3c(cam->position));
+    float depth = v3_dot(d, load3c(cam->forward));
     if (!(depth > 0.0f))
         return -1;
-    float3 right = vload3(0, cam->right), up = vload3(0, cam->up);
-    float sx = dot(d, right) / (depth * dot(right, right));
-    float sy = dot(d, up) / (depth * dot(up, up));
+    vec3 right = load3c(cam->right), up = load3c(cam->up);
+    float sx = v3_dot(d, right) / (depth * v3_dot(right, right));
+    float sy = v3_dot(d, up) / (depth * v3_dot(up, up));
     float x = 0.5f * (sx + 1.0f) * (float)cam->width, y = 0.5f * (1.0f - sy) * (float)cam->height;
     if (!(x >= 0.0f && x < (float)cam->width && y >= 0.0f && y < (float)cam->height))
         return -1;

@@ -7,18 +7,20 @@
 #define WAVEVCM_LIGHTS_H
 
 #include "core/ray.h"
+#include "core/rng.h"
 #include "core/sampling.h"
+#include "core/vec3.h"
 #include "interface/inline.h"
 #include "interface/shared_types.h"
 
 typedef struct LightSample {
-    float3 direction; /* unit, from the shading point towards the light */
-    float distance;   /* INFINITY for directional and background lights */
-    float3 radiance;  /* arriving along -direction: f·radiance·|cos|/pdf is the estimate */
-    float pdf;        /* solid angle density including selection; delta lights: the selection probability */
+    vec3 direction; /* unit, from the shading point towards the light */
+    float distance; /* INFINITY for directional and background lights */
+    vec3 radiance;  /* arriving along -direction: f·radiance·|cos|/pdf is the estimate */
+    float pdf;      /* solid angle density including selection; delta lights: the selection probability */
     bool delta;
-    int type;         /* LIGHT_* */
-    float3 lightPoint, lightNormal, lightError; /* triangle lights: for the shadow ray's far end */
+    int type;       /* LIGHT_* */
+    vec3 lightPoint, lightNormal, lightError; /* triangle lights: for the shadow ray's far end */
     /* For the bidirectional MIS (mis.h): the density of having sampled this
      * direction here (directPdfW; for point and spot lights distance², as in
      * SmallVCM, since their intensity is not divided by it), that of the
@@ -27,22 +29,30 @@ typedef struct LightSample {
     float directPdfW, emissionPdfW, cosAtLight;
 } LightSample;
 
-/* The light whose CDF interval holds u (binary search). */
+/* Steps of the light selection's binary search: enough bits for the largest
+ * light index. The renderer sets it for its scene's light table, so the
+ * search is a fixed sequence of steps (a data-dependent loop would keep PoCL
+ * from vectorizing the kernel); the default covers any table. */
+#ifndef LIGHT_SELECT_STEPS
+#define LIGHT_SELECT_STEPS 31
+#endif
+
+/* The light whose CDF interval holds u: the largest i < count with
+ * cdf[i] <= u (binary search over the bits of i; cdf[0] = 0). */
 INLINE int select_light(__global const float* cdf, int count, float u)
 {
-    int lo = 0, hi = count - 1;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (cdf[mid + 1] <= u)
-            lo = mid + 1;
-        else
-            hi = mid;
+    int lo = 0;
+#pragma unroll
+    for (int bit = LIGHT_SELECT_STEPS - 1; bit >= 0; --bit) {
+        int mid = lo + (1 << bit);
+        bool below = cdf[min(mid, count - 1)] <= u;
+        lo = mid < count && below ? mid : lo;
     }
     return lo;
 }
 
 /* glTF spot cone: squared linear ramp between the outer and inner cone. */
-INLINE float spot_falloff(const Light* l, float cosAngle)
+INLINE float spot_falloff(__global const Light* l, float cosAngle)
 {
     float t = clamp((cosAngle - l->cosOuterCone) / fmax(1e-4f, l->cosInnerCone - l->cosOuterCone), 0.0f, 1.0f);
     return t * t;
@@ -61,105 +71,97 @@ INLINE float background_light_pdf(float pmf) { return pmf * (0.25f * INV_PI_F); 
 #ifdef HAS_EMISSIVE_TRIANGLES
 /* A uniform point on an emissive triangle, its error bound and the
  * triangle's (emitting) geometric normal. */
-INLINE float3 sample_triangle_point(__global const float4* triVertices, int triangle, float2 u, float3* error,
-                                    float3* normal)
+INLINE vec3 sample_triangle_point(__global const float4* triVertices, int triangle, float u1, float u2, vec3* error,
+                                  vec3* normal)
 {
-    float3 v0 = triVertices[3 * triangle].xyz, v1 = triVertices[3 * triangle + 1].xyz,
-           v2 = triVertices[3 * triangle + 2].xyz;
-    float2 b = sample_triangle(u);
-    *normal = normalize(cross(v1 - v0, v2 - v0));
+    vec3 v0 = load_vec3(triVertices, 3 * triangle), v1 = load_vec3(triVertices, 3 * triangle + 1),
+         v2 = load_vec3(triVertices, 3 * triangle + 2);
+    vec2 b = sample_triangle(u1, u2);
+    *normal = v3_normalize(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
     return surface_point(v0, v1, v2, b.x, b.y, error);
 }
 #endif
 
+/* Next-event estimation: a light chosen by power with u.x, a point or
+ * direction on it with u.y, u.z, seen from p. The light types are an
+ * if-chain, not a switch: LLVM's loop vectorizer refuses loops with a switch. */
 INLINE bool sample_light(__global const Light* lights, __global const float* cdf,
-                         __global const float4* triVertices, __constant const SceneInfo* scene, float3 p, float3 u,
+                         __global const float4* triVertices, __constant const SceneInfo* scene, vec3 p, Uniform4 u,
                          LightSample* s)
 {
     int lightCount = scene->lightCount;
     if (lightCount == 0)
         return false;
-    Light l = lights[select_light(cdf, lightCount, u.x)];
+    __global const Light* l = &lights[select_light(cdf, lightCount, u.x)];
+    int type = l->type;
     s->delta = false;
     s->distance = INFINITY;
-    s->type = l.type;
-    switch (l.type) {
+    s->type = type;
+    s->radiance = load3(l->emission);
+    s->cosAtLight = 1.0f;
 #ifdef HAS_EMISSIVE_TRIANGLES
-    case LIGHT_TRIANGLE: {
-        float3 n;
-        float3 q = sample_triangle_point(triVertices, l.triangle, u.yz, &s->lightError, &n);
-        float3 d = q - p;
-        float dist = length(d);
-        if (!(dist > 0.0f))
-            return false;
-        s->direction = d / dist;
-        float cosLight = -dot(s->direction, n); /* one-sided: emits along n only */
-        if (cosLight <= 0.0f)
-            return false;
+    if (type == LIGHT_TRIANGLE) {
+        vec3 n;
+        vec3 q = sample_triangle_point(triVertices, l->triangle, u.y, u.z, &s->lightError, &n);
+        vec3 d = v3_sub(q, p);
+        float dist = v3_length(d);
+        s->direction = v3_div(d, dist);
+        float cosLight = -v3_dot(s->direction, n); /* one-sided: emits along n only */
         s->distance = dist;
-        s->pdf = triangle_light_pdf(l.pmf, l.area, dist, cosLight);
-        s->radiance = vload3(0, l.emission);
+        s->pdf = triangle_light_pdf(l->pmf, l->area, dist, cosLight);
         s->lightPoint = q;
         s->lightNormal = n;
         s->directPdfW = s->pdf;
-        s->emissionPdfW = l.pmf / l.area * cosLight * INV_PI_F;
+        s->emissionPdfW = l->pmf / l->area * cosLight * INV_PI_F;
         s->cosAtLight = cosLight;
-        return s->pdf > 0.0f && isfinite(s->pdf);
+        return dist > 0.0f && cosLight > 0.0f && s->pdf > 0.0f && isfinite(s->pdf);
     }
 #endif
 #ifdef HAS_POINT_LIGHTS
-    case LIGHT_POINT:
-    case LIGHT_SPOT: {
-        float3 d = vload3(0, l.position) - p;
-        float dist2 = dot(d, d);
-        if (!(dist2 > 0.0f))
-            return false;
+    if (type == LIGHT_POINT || type == LIGHT_SPOT) {
+        vec3 d = v3_sub(load3(l->position), p);
+        float dist2 = v3_dot(d, d);
         float dist = sqrt(dist2);
-        s->direction = d / dist;
+        s->direction = v3_div(d, dist);
         s->distance = dist;
-        float falloff = l.type == LIGHT_SPOT ? spot_falloff(&l, -dot(s->direction, vload3(0, l.direction))) : 1.0f;
-        s->radiance = vload3(0, l.emission) * (falloff / dist2);
-        s->pdf = l.pmf;
+        float falloff = type == LIGHT_SPOT ? spot_falloff(l, -v3_dot(s->direction, load3(l->direction))) : 1.0f;
+        s->radiance = v3_scale(s->radiance, falloff / dist2);
+        s->pdf = l->pmf;
         s->delta = true;
-        s->directPdfW = l.pmf * dist2;
-        s->emissionPdfW = l.pmf * (l.type == LIGHT_SPOT ? 1.0f / (2.0f * PI_F * (1.0f - l.cosOuterCone)) : 0.25f * INV_PI_F);
-        s->cosAtLight = 1.0f;
-        return falloff > 0.0f;
+        s->directPdfW = l->pmf * dist2;
+        s->emissionPdfW = l->pmf * (type == LIGHT_SPOT ? 1.0f / (2.0f * PI_F * (1.0f - l->cosOuterCone)) : 0.25f * INV_PI_F);
+        return dist2 > 0.0f && falloff > 0.0f;
     }
 #endif
 #ifdef HAS_DIRECTIONAL_LIGHTS
-    case LIGHT_DIRECTIONAL:
-        s->direction = -vload3(0, l.direction);
-        s->radiance = vload3(0, l.emission);
-        s->pdf = l.pmf;
+    if (type == LIGHT_DIRECTIONAL) {
+        s->direction = v3_neg(load3(l->direction));
+        s->pdf = l->pmf;
         s->delta = true;
-        s->directPdfW = l.pmf;
-        s->emissionPdfW = l.pmf / (PI_F * scene->radius * scene->radius);
-        s->cosAtLight = 1.0f;
+        s->directPdfW = l->pmf;
+        s->emissionPdfW = l->pmf / (PI_F * scene->radius * scene->radius);
         return true;
+    }
 #endif
 #ifdef HAS_BACKGROUND
-    case LIGHT_BACKGROUND:
-        s->direction = sample_uniform_sphere(u.yz);
-        s->radiance = vload3(0, l.emission);
-        s->pdf = background_light_pdf(l.pmf);
+    if (type == LIGHT_BACKGROUND) {
+        s->direction = sample_uniform_sphere(u.y, u.z);
+        s->pdf = background_light_pdf(l->pmf);
         s->directPdfW = s->pdf;
         s->emissionPdfW = s->pdf / (PI_F * scene->radius * scene->radius);
-        s->cosAtLight = 1.0f;
         return true;
-#endif
-    default:
-        return false;
     }
+#endif
+    return false;
 }
 
 /* A ray leaving a light. The power estimate it carries is
  * radiance · cosAtLight / (pdfPosition · pdfDirection); averaged over samples
  * it is the light's power divided by its selection probability. */
 typedef struct EmissionSample {
-    float3 position;
-    float3 direction;   /* unit, the way the light travels */
-    float3 radiance;    /* radiance (triangle, background), intensity (point, spot), irradiance (directional) */
+    vec3 position;
+    vec3 direction;     /* unit, the way the light travels */
+    vec3 radiance;      /* radiance (triangle, background), intensity (point, spot), irradiance (directional) */
     float pdfPosition;  /* area density including selection; 1 · selection for point and spot lights */
     float pdfDirection; /* solid-angle density; 1 for directional lights */
     float cosAtLight;   /* 1 for lights without a surface */
@@ -167,94 +169,86 @@ typedef struct EmissionSample {
                            infinite lights), with selection; for MIS */
     bool deltaPosition, deltaDirection;
     bool finite;        /* not directional or background */
-    float3 normal, positionError; /* triangle lights: where the ray leaves from */
+    vec3 normal, positionError; /* triangle lights: where the ray leaves from */
     int light;
 } EmissionSample;
 
-/* Sampling the ray's start and direction. u.x selects the light, u.yz the
- * position, v the direction. Infinite lights (directional, background) start
- * their rays on a disk of the bounding sphere's radius, facing the scene,
- * just outside the sphere. */
+/* Sampling the ray's start and direction. u.x selects the light, u.y, u.z
+ * the position, v.x, v.y the direction. Infinite lights (directional,
+ * background) start their rays on a disk of the bounding sphere's radius,
+ * facing the scene, just outside the sphere. */
 INLINE bool sample_emission(__global const Light* lights, __global const float* cdf,
-                            __global const float4* triVertices, __constant const SceneInfo* scene, float3 u,
-                            float2 v, EmissionSample* e)
+                            __global const float4* triVertices, __constant const SceneInfo* scene, Uniform4 u,
+                            Uniform4 v, EmissionSample* e)
 {
     int lightCount = scene->lightCount;
     if (lightCount == 0)
         return false;
     e->light = select_light(cdf, lightCount, u.x);
-    Light l = lights[e->light];
-    e->radiance = vload3(0, l.emission);
+    __global const Light* l = &lights[e->light];
+    int type = l->type;
+    e->radiance = load3(l->emission);
     e->cosAtLight = 1.0f;
     e->deltaPosition = false;
     e->deltaDirection = false;
     e->finite = true;
-    e->positionError = (float3)(0.0f);
-    float3 centre = vload3(0, scene->center);
+    e->positionError = v3s(0.0f);
+    vec3 centre = load3c(scene->center);
     float radius = scene->radius;
-    switch (l.type) {
 #ifdef HAS_EMISSIVE_TRIANGLES
-    case LIGHT_TRIANGLE: {
-        e->position = sample_triangle_point(triVertices, l.triangle, u.yz, &e->positionError, &e->normal);
+    if (type == LIGHT_TRIANGLE) {
+        e->position = sample_triangle_point(triVertices, l->triangle, u.y, u.z, &e->positionError, &e->normal);
         Frame f = frame_from_normal(e->normal);
-        float3 dirLocal = sample_cosine_hemisphere(v);
+        vec3 dirLocal = sample_cosine_hemisphere(v.x, v.y);
         e->direction = to_world(&f, dirLocal);
         e->cosAtLight = dirLocal.z;
-        e->pdfPosition = l.pmf / l.area;
+        e->pdfPosition = l->pmf / l->area;
         e->pdfDirection = dirLocal.z * INV_PI_F;
         e->directPdf = e->pdfPosition;
         return dirLocal.z > 0.0f;
     }
 #endif
 #ifdef HAS_POINT_LIGHTS
-    case LIGHT_POINT:
-    case LIGHT_SPOT: {
-        e->position = vload3(0, l.position);
-        e->pdfPosition = l.pmf;
-        e->directPdf = l.pmf;
+    if (type == LIGHT_POINT || type == LIGHT_SPOT) {
+        e->position = load3(l->position);
+        e->pdfPosition = l->pmf;
+        e->directPdf = l->pmf;
         e->deltaPosition = true;
-        if (l.type == LIGHT_POINT) {
-            e->direction = sample_uniform_sphere(v);
+        if (type == LIGHT_POINT) {
+            e->direction = sample_uniform_sphere(v.x, v.y);
             e->pdfDirection = 0.25f * INV_PI_F;
             return true;
         }
-        Frame f = frame_from_normal(vload3(0, l.direction));
-        float3 dirLocal = sample_uniform_cone(v, l.cosOuterCone);
+        Frame f = frame_from_normal(load3(l->direction));
+        vec3 dirLocal = sample_uniform_cone(v.x, v.y, l->cosOuterCone);
         e->direction = to_world(&f, dirLocal);
-        e->pdfDirection = 1.0f / (2.0f * PI_F * (1.0f - l.cosOuterCone));
-        e->radiance *= spot_falloff(&l, dirLocal.z);
+        e->pdfDirection = 1.0f / (2.0f * PI_F * (1.0f - l->cosOuterCone));
+        e->radiance = v3_scale(e->radiance, spot_falloff(l, dirLocal.z));
         return true;
     }
 #endif
 #if defined(HAS_DIRECTIONAL_LIGHTS) || defined(HAS_BACKGROUND)
-#ifdef HAS_DIRECTIONAL_LIGHTS
-    case LIGHT_DIRECTIONAL:
-#endif
-#ifdef HAS_BACKGROUND
-    case LIGHT_BACKGROUND:
-#endif
-    {
+    if (type == LIGHT_DIRECTIONAL || type == LIGHT_BACKGROUND) {
         e->finite = false;
-        if (l.type == LIGHT_DIRECTIONAL) {
-            e->direction = vload3(0, l.direction);
+        if (type == LIGHT_DIRECTIONAL) {
+            e->direction = load3(l->direction);
             e->pdfDirection = 1.0f;
             e->deltaDirection = true;
-            e->directPdf = l.pmf;
+            e->directPdf = l->pmf;
         } else {
-            e->direction = -sample_uniform_sphere(v);
+            e->direction = v3_neg(sample_uniform_sphere(v.x, v.y));
             e->pdfDirection = 0.25f * INV_PI_F;
-            e->directPdf = background_light_pdf(l.pmf);
+            e->directPdf = background_light_pdf(l->pmf);
         }
         Frame f = frame_from_normal(e->direction);
-        float2 d = sample_disk(u.yz) * radius;
-        e->position = centre - e->direction * radius + d.x * f.s + d.y * f.t;
-        e->pdfPosition = l.pmf / (PI_F * radius * radius);
+        vec2 d = sample_disk(u.y, u.z);
+        e->position = v3_add(v3_add(v3_sub(centre, v3_scale(e->direction, radius)), v3_scale(f.s, d.x * radius)),
+                             v3_scale(f.t, d.y * radius));
+        e->pdfPosition = l->pmf / (PI_F * radius * radius);
         return true;
     }
 #endif
-    default:
-        return false;
-    }
+    return false;
 }
 
 /* For MIS at a camera path's hit on an emissive triangle (front side, cosine
@@ -281,41 +275,46 @@ INLINE void background_hit_pdfs(float pmf, float sceneRadius, float* directPdfW,
  * sides are decided by rounding, and the shadow ray between them, parallel
  * to the wall within ~1e-7, slips through it. Such connections carry
  * cos θ ≈ 0 at both ends; dropping them costs nothing measurable. */
-INLINE bool connection_resolved(float3 p, float3 pError, float3 np, float3 q, float3 qError, float3 nq)
+INLINE bool connection_resolved(vec3 p, vec3 pError, vec3 np, vec3 q, vec3 qError, vec3 nq)
 {
-    float3 d = q - p, error = pError + qError;
-    return fabs(dot(d, np)) > dot(fabs(np), error) && fabs(dot(d, nq)) > dot(fabs(nq), error);
+    vec3 d = v3_sub(q, p), error = v3_add(pError, qError);
+    return fabs(v3_dot(d, np)) > v3_dot(v3_abs(np), error) && fabs(v3_dot(d, nq)) > v3_dot(v3_abs(nq), error);
 }
 
 /* Ray from p towards a point `target` with error bound `targetError` on a
  * surface with normal targetNormal: both ends offset, the segment stopping
  * just short of the far end (pbrt-v4 SpawnRayTo). */
-INLINE Ray ray_between(float3 p, float3 pError, float3 n, float3 target, float3 targetError, float3 targetNormal)
+INLINE Ray ray_between(vec3 p, vec3 pError, vec3 n, vec3 target, vec3 targetError, vec3 targetNormal)
 {
     Ray r;
-    r.origin = offset_ray_origin(p, pError, n, target - p);
-    float3 end = offset_ray_origin(target, targetError, targetNormal, p - target);
-    r.direction = end - r.origin;
+    r.origin = offset_ray_origin(p, pError, n, v3_sub(target, p));
+    vec3 end = offset_ray_origin(target, targetError, targetNormal, v3_sub(p, target));
+    r.direction = v3_sub(end, r.origin);
     r.tMax = 1.0f - 1e-4f;
     return r;
 }
 
 /* connection_resolved for a light sample at a surface hit: only a triangle
  * light has a surface, and so a side, at the far end. */
-INLINE bool light_sample_resolved(float3 p, float3 pError, float3 ng, const LightSample* ls)
+INLINE bool light_sample_resolved(vec3 p, vec3 pError, vec3 ng, const LightSample* ls)
 {
     return ls->type != LIGHT_TRIANGLE || connection_resolved(p, pError, ng, ls->lightPoint, ls->lightError, ls->lightNormal);
 }
 
-/* The shadow ray of a light sample taken at a surface hit. */
-INLINE Ray shadow_ray_to_light(float3 p, float3 pError, float3 ng, const LightSample* ls)
+/* The shadow ray of a light sample taken at a surface hit: to the point on a
+ * triangle light, to a point light (nothing at the far end to avoid), or
+ * along the direction of an infinite light. */
+INLINE Ray shadow_ray_to_light(vec3 p, vec3 pError, vec3 ng, const LightSample* ls)
 {
+    bool triangle = ls->type == LIGHT_TRIANGLE;
+    vec3 target = triangle ? ls->lightPoint : v3_add_scaled(p, ls->direction, ls->distance);
+    Ray r = ray_between(p, pError, ng, target, triangle ? ls->lightError : v3s(0.0f),
+                        triangle ? ls->lightNormal : v3_neg(ls->direction));
+#if defined(HAS_DIRECTIONAL_LIGHTS) || defined(HAS_BACKGROUND)
     if (isinf(ls->distance))
-        return spawn_ray(p, pError, ng, ls->direction);
-    if (ls->type == LIGHT_TRIANGLE)
-        return ray_between(p, pError, ng, ls->lightPoint, ls->lightError, ls->lightNormal);
-    /* a point light: nothing at the far end to avoid */
-    return ray_between(p, pError, ng, p + ls->direction * ls->distance, (float3)(0.0f), -ls->direction);
+        r = spawn_ray(p, pError, ng, ls->direction);
+#endif
+    return r;
 }
 
 #endif

@@ -14,6 +14,7 @@
 
 #include "fresnel.h"
 #include "ggx.h"
+#include "core/vec3.h"
 #include "interface/inline.h"
 #include "interface/shared_types.h"
 
@@ -28,27 +29,28 @@ typedef struct Bsdf {
     float alpha;          /* GGX α = roughness² */
     float eta;            /* η_t / η_i for light crossing from wo's side */
     bool refracts;        /* transmission bends (a solid, not thin-walled) */
-    float3 metalF0;       /* base colour, Schlick's F0 for the metal part */
+    vec3 metalF0;       /* base colour, Schlick's F0 for the metal part */
     float metallic;
-    float3 specularTint;  /* (1 − metallic) · specularFactor · specularColor */
-    float specular;       /* (1 − metallic) · specularFactor */
-    float3 transmitColor; /* (1 − metallic) · transmission · base colour */
-    float3 diffuseColor;  /* (1 − metallic) · (1 − transmission) · base colour */
-    float3 lobeProb;      /* probabilities of picking reflection, transmission, diffuse at wo */
+    vec3 specularTint;  /* (1 − metallic) · specularFactor · specularColor */
+    float specular;     /* (1 − metallic) · specularFactor */
+    vec3 transmitColor; /* (1 − metallic) · transmission · base colour */
+    vec3 diffuseColor;  /* (1 − metallic) · (1 − transmission) · base colour */
+    vec3 lobeProb;      /* probabilities of picking reflection, transmission, diffuse at wo */
 } Bsdf;
 
 typedef struct BsdfSample {
-    float3 wi;
-    float3 weight; /* f · |cos θi| / pdf */
+    vec3 wi;
+    vec3 weight; /* f · |cos θi| / pdf */
     float pdf;     /* solid angle; for a delta lobe the lobe's selection probability */
     bool delta;
 } BsdfSample;
 
 /* Reflectance of the reflection lobe at cos θ (of a microfacet, or of the
  * surface for the smooth lobe): metal Schlick plus the layer's exact Fresnel. */
-INLINE float3 reflectance(const Bsdf* b, float cosH, float eta)
+INLINE vec3 reflectance(const Bsdf* b, float cosH, float eta)
 {
-    return b->metallic * fresnel_schlick(b->metalF0, cosH) + b->specularTint * fresnel_dielectric(cosH, eta);
+    return v3_add(v3_scale(fresnel_schlick(b->metalF0, cosH), b->metallic),
+                  v3_scale(b->specularTint, fresnel_dielectric(cosH, eta)));
 }
 
 /* What the dielectric layer lets through to transmission and diffuse. */
@@ -60,7 +62,7 @@ INLINE float layer_transmittance(const Bsdf* b, float cosH, float eta)
 /* Lobe selection probabilities for a path arriving from direction w
  * (cos θ = cosW > 0, relative index eta), proportional to each lobe's
  * albedo estimate there. */
-INLINE float3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
+INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
 {
     float through = layer_transmittance(b, cosW, eta);
     float r = (b->lobes & LOBES_REFLECT) ? luminance(reflectance(b, cosW, eta)) : 0.0f;
@@ -72,12 +74,12 @@ INLINE float3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
     float t = (b->lobes & LOBES_TRANSMIT) ? tThrough * luminance(b->transmitColor) : 0.0f;
     float d = (b->lobes & LOBE_DIFFUSE) ? through * luminance(b->diffuseColor) : 0.0f;
     float sum = r + t + d;
-    return sum > 0.0f ? (float3)(r, t, d) / sum : (float3)(0.0f);
+    return sum > 0.0f ? v3(r / sum, t / sum, d / sum) : v3s(0.0f);
 }
 
 /* The BSDF at a hit seen from local direction wo (wo.z > 0 after the caller
  * flipped the frame); frontSide: wo is on the side the normal points to. */
-INLINE Bsdf make_bsdf(__global const Material* m, float3 wo, bool frontSide)
+INLINE Bsdf make_bsdf(__global const Material* m, vec3 wo, bool frontSide)
 {
     Bsdf b;
     b.lobes = m->lobes & SCENE_LOBES;
@@ -86,14 +88,14 @@ INLINE Bsdf make_bsdf(__global const Material* m, float3 wo, bool frontSide)
     /* Opaque and thin-walled surfaces are two-sided: their Fresnel always
      * sees air → material. A refracting solid sees the inverse from inside. */
     b.eta = (b.refracts && !frontSide) ? 1.0f / m->ior : m->ior;
-    float3 base = (float3)(m->baseColor[0], m->baseColor[1], m->baseColor[2]);
+    vec3 base = load3(m->baseColor);
     float dielectric = 1.0f - m->metallic;
     b.metallic = m->metallic;
     b.metalF0 = base;
     b.specular = m->ior == 1.0f ? 0.0f : dielectric * m->specular; /* index-matched: no reflection */
-    b.specularTint = b.specular * (float3)(m->specularColor[0], m->specularColor[1], m->specularColor[2]);
-    b.transmitColor = dielectric * m->transmission * base;
-    b.diffuseColor = dielectric * (1.0f - m->transmission) * base;
+    b.specularTint = v3_scale(load3(m->specularColor), b.specular);
+    b.transmitColor = v3_scale(base, dielectric * m->transmission);
+    b.diffuseColor = v3_scale(base, dielectric * (1.0f - m->transmission));
     b.lobeProb = lobe_probabilities(&b, wo.z, b.eta);
     return b;
 }
@@ -104,7 +106,8 @@ INLINE Bsdf make_bsdf(__global const Material* m, float3 wo, bool frontSide)
  * MIS weights of all techniques still sum to one. */
 INLINE float continuation_probability(const Bsdf* b)
 {
-    float3 albedo = b->metallic * b->metalF0 + b->specularTint + b->transmitColor + b->diffuseColor;
+    vec3 albedo = v3_add(v3_add(v3_add(v3_scale(b->metalF0, b->metallic), b->specularTint), b->transmitColor),
+                         b->diffuseColor);
     return clamp(max_component(albedo), 0.0f, 1.0f);
 }
 
@@ -127,10 +130,10 @@ INLINE bool bsdf_has_nondelta(const Bsdf* b)
 }
 
 /* Generalised half vector of refraction h ∝ wo + η·wi, oriented to +z. */
-INLINE float3 refraction_half_vector(float3 wo, float3 wi, float eta)
+INLINE vec3 refraction_half_vector(vec3 wo, vec3 wi, float eta)
 {
-    float3 h = normalize(wo + eta * wi);
-    return h.z < 0.0f ? -h : h;
+    vec3 h = v3_normalize(v3_add_scaled(wo, wi, eta));
+    return h.z < 0.0f ? v3_neg(h) : h;
 }
 
 /* Jacobian dω_h/dω_i of refraction, |wi·h| / (wi·h + wo·h/η)² (Walter et al. 2007). */
@@ -142,30 +145,32 @@ INLINE float refraction_jacobian(float oh, float ih, float eta)
 
 /* f(wo, wi) of the non-delta lobes; *pdfFwd is the density of sampling wi
  * from wo, *pdfRev that of sampling wo from wi (bidirectional MIS). */
-INLINE float3 bsdf_eval(const Bsdf* b, float3 wo, float3 wi, bool adjoint, float* pdfFwd, float* pdfRev)
+INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfFwd, float* pdfRev)
 {
-    float3 f = (float3)(0.0f);
+    vec3 f = v3s(0.0f);
     *pdfFwd = 0.0f;
     *pdfRev = 0.0f;
     if (wo.z <= 0.0f || wi.z == 0.0f)
         return f;
     if (wi.z > 0.0f) {
         /* Reflection: wi is on wo's side, sees the same η. */
-        float3 probRev = lobe_probabilities(b, wi.z, b->eta);
+        vec3 probRev = lobe_probabilities(b, wi.z, b->eta);
 #if SCENE_LOBES & LOBE_DIFFUSE
         if (b->lobeProb.z > 0.0f) {
             /* Light enters and leaves through the dielectric layer: both
              * transmittances, so the lobe is reciprocal. */
-            f += b->diffuseColor * (layer_transmittance(b, wo.z, b->eta) * layer_transmittance(b, wi.z, b->eta) * INV_PI_F);
+            f = v3_add(f, v3_scale(b->diffuseColor, layer_transmittance(b, wo.z, b->eta) *
+                                                        layer_transmittance(b, wi.z, b->eta) * INV_PI_F));
             *pdfFwd += b->lobeProb.z * wi.z * INV_PI_F;
             *pdfRev += probRev.z * wo.z * INV_PI_F;
         }
 #endif
 #if SCENE_LOBES & LOBE_GGX_REFLECTION
         if (b->lobeProb.x > 0.0f && (b->lobes & LOBE_GGX_REFLECTION)) {
-            float3 h = normalize(wo + wi);
-            float cosH = dot(wo, h);
-            f += reflectance(b, cosH, b->eta) * ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) / (4.0f * wo.z * wi.z);
+            vec3 h = v3_normalize(v3_add(wo, wi));
+            float cosH = v3_dot(wo, h);
+            f = v3_add(f, v3_scale(reflectance(b, cosH, b->eta),
+                                   ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) / (4.0f * wo.z * wi.z)));
             *pdfFwd += b->lobeProb.x * ggx_visible_pdf(wo, h, b->alpha) / (4.0f * cosH);
             *pdfRev += probRev.x * ggx_visible_pdf(wi, h, b->alpha) / (4.0f * cosH);
         }
@@ -173,20 +178,20 @@ INLINE float3 bsdf_eval(const Bsdf* b, float3 wo, float3 wi, bool adjoint, float
     } else {
 #if SCENE_LOBES & LOBE_GGX_TRANSMISSION
         if (b->lobeProb.y > 0.0f && (b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts) {
-            float3 h = refraction_half_vector(wo, wi, b->eta);
-            float oh = dot(wo, h), ih = dot(wi, h);
+            vec3 h = refraction_half_vector(wo, wi, b->eta);
+            float oh = v3_dot(wo, h), ih = v3_dot(wi, h);
             if (oh > 0.0f && ih < 0.0f) { /* a microfacet both directions see */
                 float denom = ih + oh / b->eta;
                 float T = layer_transmittance(b, oh, b->eta);
                 float value = ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) * fabs(ih * oh / (wi.z * wo.z * denom * denom));
                 if (!adjoint)
                     value /= b->eta * b->eta;
-                f += b->transmitColor * T * value;
+                f = v3_add(f, v3_scale(b->transmitColor, T * value));
                 *pdfFwd += b->lobeProb.y * ggx_visible_pdf(wo, h, b->alpha) * refraction_jacobian(oh, ih, b->eta);
                 /* Reverse: from wi's side (mirrored so it is "above"), η
                  * inverts and the roles of the directions swap. */
-                float3 wiUp = (float3)(wi.x, wi.y, -wi.z), hUp = (float3)(-h.x, -h.y, h.z);
-                float3 probRev = lobe_probabilities(b, -wi.z, 1.0f / b->eta);
+                vec3 wiUp = v3(wi.x, wi.y, -wi.z), hUp = v3(-h.x, -h.y, h.z);
+                vec3 probRev = lobe_probabilities(b, -wi.z, 1.0f / b->eta);
                 *pdfRev += probRev.y * ggx_visible_pdf(wiUp, hUp, b->alpha) *
                            refraction_jacobian(-ih, -oh, 1.0f / b->eta);
             }
@@ -198,62 +203,62 @@ INLINE float3 bsdf_eval(const Bsdf* b, float3 wo, float3 wi, bool adjoint, float
 
 /* Samples wi given wo with the lobe probabilities, then the lobe. Returns
  * false if no direction was produced (black BSDF, below the surface, TIR in
- * a rough transmission sample). u.x picks the lobe; u.yz sample it. */
-INLINE bool bsdf_sample(const Bsdf* b, float3 wo, float3 u, bool adjoint, BsdfSample* s)
+ * a rough transmission sample). u1 picks the lobe; u2, u3 sample it. */
+INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bool adjoint, BsdfSample* s)
 {
     if (wo.z <= 0.0f || bsdf_is_black(b))
         return false;
     float pR = b->lobeProb.x, pT = b->lobeProb.y;
     s->delta = false;
-    if (u.x < pR) {
+    if (u1 < pR) {
         if (b->lobes & LOBE_DELTA_REFLECTION) {
-            s->wi = (float3)(-wo.x, -wo.y, wo.z);
+            s->wi = v3(-wo.x, -wo.y, wo.z);
             s->pdf = pR;
             s->delta = true;
-            s->weight = reflectance(b, wo.z, b->eta) / pR; /* f·cos/pdf with f = R·δ/cos */
+            s->weight = v3_div(reflectance(b, wo.z, b->eta), pR); /* f·cos/pdf with f = R·δ/cos */
             return true;
         }
 #if SCENE_LOBES & LOBE_GGX_REFLECTION
-        float3 h = ggx_sample_visible(wo, b->alpha, u.yz);
-        s->wi = 2.0f * dot(wo, h) * h - wo;
+        vec3 h = ggx_sample_visible(wo, b->alpha, u2, u3);
+        s->wi = v3_sub(v3_scale(h, 2.0f * v3_dot(wo, h)), wo);
         if (s->wi.z <= 0.0f)
             return false;
 #else
         return false;
 #endif
-    } else if (u.x < pR + pT) {
+    } else if (u1 < pR + pT) {
         if ((b->lobes & LOBE_DELTA_TRANSMISSION) || !b->refracts) {
             float T = layer_transmittance(b, wo.z, b->eta);
             s->delta = true;
             s->pdf = pT;
             if (!b->refracts) { /* thin-walled: straight through */
-                s->wi = -wo;
-                s->weight = b->transmitColor * T / pT;
+                s->wi = v3_neg(wo);
+                s->weight = v3_div(v3_scale(b->transmitColor, T), pT);
                 return true;
             }
-            if (!refract_direction(wo, (float3)(0.0f, 0.0f, 1.0f), b->eta, &s->wi))
+            if (!refract_direction(wo, v3(0.0f, 0.0f, 1.0f), b->eta, &s->wi))
                 return false; /* TIR: T = 0 here anyway */
             float scale = adjoint ? 1.0f : 1.0f / (b->eta * b->eta);
-            s->weight = b->transmitColor * T * scale / pT;
+            s->weight = v3_div(v3_scale(b->transmitColor, T * scale), pT);
             return true;
         }
 #if SCENE_LOBES & LOBE_GGX_TRANSMISSION
-        float3 h = ggx_sample_visible(wo, b->alpha, u.yz);
+        vec3 h = ggx_sample_visible(wo, b->alpha, u2, u3);
         if (!refract_direction(wo, h, b->eta, &s->wi) || s->wi.z >= 0.0f)
             return false;
 #else
         return false;
 #endif
     } else {
-        s->wi = sample_cosine_hemisphere(u.yz);
+        s->wi = sample_cosine_hemisphere(u2, u3);
         if (s->wi.z <= 0.0f)
             return false;
     }
     float pdfRev;
-    float3 f = bsdf_eval(b, wo, s->wi, adjoint, &s->pdf, &pdfRev);
+    vec3 f = bsdf_eval(b, wo, s->wi, adjoint, &s->pdf, &pdfRev);
     if (!(s->pdf > 0.0f))
         return false;
-    s->weight = f * fabs(s->wi.z) / s->pdf;
+    s->weight = v3_scale(f, fabs(s->wi.z) / s->pdf);
     return true;
 }
 

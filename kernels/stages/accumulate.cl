@@ -8,14 +8,22 @@
  * its own (three float4 per pixel in familyMeans). A sample that is NaN or
  * Inf is dropped (counted as zero) and counted: the last guard of the NaN
  * policy (nan_policy.h), for finite contributions whose sum overflowed. */
+#include "core/vec3.h"
 #include "interface/inline.h"
 #include "interface/kernel_interface.h"
 
-INLINE float4 take(__global float4* buffer, int pixel)
+INLINE vec3 take(__global float4* buffer, int pixel)
 {
-    float4 x = buffer[pixel];
-    buffer[pixel] = (float4)(0.0f);
+    vec3 x = load_vec3(buffer, pixel);
+    store_vec3w(buffer, pixel, v3s(0.0f), 0.0f);
     return x;
+}
+
+/* mean += (x - mean) · inv, for element i of a float4 array of means */
+INLINE void update_mean(__global float4* means, int i, vec3 x, float inv)
+{
+    vec3 mean = load_vec3(means, i);
+    store_vec3w(means, i, v3_add(mean, v3_scale(v3_sub(x, mean), inv)), 0.0f);
 }
 
 __kernel void accumulate(RENDER_KERNEL_PARAMS)
@@ -23,19 +31,20 @@ __kernel void accumulate(RENDER_KERNEL_PARAMS)
     int pixel = get_global_id(0);
     if (pixel >= params.pixels)
         return;
-    float4 family[3] = {take(pixelRadiance, pixel), take(connectionRadiance, pixel) + take(splatRadiance, pixel),
-                        take(mergingRadiance, pixel)};
-    float4 x = family[0] + family[1] + family[2];
-    if (!all(isfinite(x.xyz))) {
+    vec3 unidirectional = take(pixelRadiance, pixel);
+    vec3 connection = v3_add(take(connectionRadiance, pixel), take(splatRadiance, pixel));
+    vec3 merging = take(mergingRadiance, pixel);
+    vec3 x = v3_add(v3_add(unidirectional, connection), merging);
+    bool finite = v3_is_finite(x);
+    if (!finite) {
         atomic_inc(&queueCounters[COUNTER_INDEX(COUNTER_NONFINITE)]);
-        x = family[0] = family[1] = family[2] = (float4)(0.0f);
+        x = unidirectional = connection = merging = v3s(0.0f);
     }
     float inv = 1.0f / (float)(params.iteration + 1);
-    float4 mean = framebuffer[pixel];
-    framebuffer[pixel] = mean + (x - mean) * inv;
-    if (params.techniques)
-        for (int f = 0; f < 3; ++f) {
-            float4 m = familyMeans[3 * pixel + f];
-            familyMeans[3 * pixel + f] = m + (family[f] - m) * inv;
-        }
+    update_mean(framebuffer, pixel, x, inv);
+    if (params.techniques) {
+        update_mean(familyMeans, 3 * pixel, unidirectional, inv);
+        update_mean(familyMeans, 3 * pixel + 1, connection, inv);
+        update_mean(familyMeans, 3 * pixel + 2, merging, inv);
+    }
 }

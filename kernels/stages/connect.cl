@@ -20,7 +20,7 @@ __kernel void connect(RENDER_KERNEL_PARAMS)
         return;
     Hit hit;
     if (!trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
-        pixelRadiance[pathPixel[slot]] += shadowContribution[slot];
+        add_vec3(pixelRadiance, pathPixel[slot], load_vec3(shadowContribution, slot));
 }
 
 /* *p += v as a compare-and-swap loop: OpenCL 1.2 has no float atomics. */
@@ -46,7 +46,7 @@ __kernel void connect_splat(RENDER_KERNEL_PARAMS)
     Hit hit;
     if (trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
         return;
-    float4 c = shadowContribution[slot];
+    vec3 c = load_vec3(shadowContribution, slot);
     volatile __global float* pixel = (volatile __global float*)(splatRadiance + shadowPixel[slot]);
     atomic_add_float(pixel, c.x);
     atomic_add_float(pixel + 1, c.y);

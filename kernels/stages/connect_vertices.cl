@@ -34,35 +34,36 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;
-    float3 beta = pathThroughput[slot].xyz;
+    vec3 beta = load_vec3(pathThroughput, slot);
+    int rejected = 0;
 
-    float3 L = (float3)(0.0f);
+    vec3 L = v3s(0.0f);
     for (int v = last; v >= 0; v = lightVertices[v].prev) {
         __global const LightVertex* lv = &lightVertices[v];
         if (lv->prev >= 0) /* needed after this connection: load it meanwhile */
             PREFETCH(&lightVertices[lv->prev], sizeof(LightVertex));
         if (!path_fits(depth + lv->pathLength + 1, params.maxPathLength))
             continue; /* vertices go from the deepest back: shallower ones may still fit */
-        float3 toLight = vload3(0, lv->toLight);
-        SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, (float2)(lv->b1, lv->b2), toLight);
+        vec3 toLight = load3(lv->toLight);
+        SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, v2(lv->b1, lv->b2), toLight);
         if (!connection_resolved(cv.hit.p, cv.hit.pError, cv.hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF))
             continue;
-        float3 d = lightHit.p - cv.hit.p;
-        float dist2 = dot(d, d);
+        vec3 d = v3_sub(lightHit.p, cv.hit.p);
+        float dist2 = v3_dot(d, d);
         if (!(dist2 > 0.0f))
             continue;
         float dist = sqrt(dist2);
-        d /= dist;
-        float3 dL = to_local(&cv.hit.frame, d);
-        float3 backL = to_local(&lightHit.frame, -d);
-        if (!sides_agree(&cv.hit, d, dL) || !sides_agree(&lightHit, -d, backL))
+        d = v3_div(d, dist);
+        vec3 dL = to_local(&cv.hit.frame, d);
+        vec3 backL = to_local(&lightHit.frame, v3_neg(d));
+        if (!sides_agree(&cv.hit, d, dL) || !sides_agree(&lightHit, v3_neg(d), backL))
             continue;
         float cameraFwd, cameraRev, lightFwd, lightRev;
-        float3 fCamera = bsdf_eval(&cv.bsdf, cv.woL, dL, false, &cameraFwd, &cameraRev);
-        float3 toLightL = to_local(&lightHit.frame, toLight);
+        vec3 fCamera = bsdf_eval(&cv.bsdf, cv.woL, dL, false, &cameraFwd, &cameraRev);
+        vec3 toLightL = to_local(&lightHit.frame, toLight);
         Bsdf lightBsdf = make_bsdf(&materials[triMaterials[lv->triangle]], toLightL, lightHit.frontSide);
-        float3 fLight = bsdf_eval(&lightBsdf, toLightL, backL, true, &lightFwd, &lightRev) *
-                        adjoint_shading_correction(&lightHit, toLight, -d);
+        vec3 fLight = v3_scale(bsdf_eval(&lightBsdf, toLightL, backL, true, &lightFwd, &lightRev),
+                               adjoint_shading_correction(&lightHit, toLight, v3_neg(d)));
         if (!(max_component(fCamera) > 0.0f && max_component(fLight) > 0.0f))
             continue;
         float contLight = continuation_probability(&lightBsdf);
@@ -75,13 +76,14 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
         PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
         float w = mis_weight_connection(lightMis, cv.mis, cameraFwd * cosLight / dist2,
                                         lightFwd * cosCamera / dist2, lightRev, cameraRev, params.vmWeightFactor);
-        float3 c = (w * geometry) * beta * fCamera * fLight * vload3(0, lv->throughput);
-        if (!accept_finite(c, queueCounters))
+        vec3 c = v3_mul(v3_mul(v3_mul(v3_scale(beta, w * geometry), fCamera), fLight), load3(lv->throughput));
+        if (!accept_finite(c, &rejected))
             continue;
         Hit occluder;
         Ray shadow = ray_between(cv.hit.p, cv.hit.pError, cv.hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF);
         if (!trace_ray(nodes, trianglePackets, shadow, true, &occluder))
-            L += c;
+            L = v3_add(L, c);
     }
-    add_radiance(connectionRadiance, pixel, L, queueCounters);
+    add_radiance(connectionRadiance, pixel, L, &rejected);
+    report_nonfinite(queueCounters, rejected);
 }

@@ -13,6 +13,7 @@ __kernel void escaped(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[8];
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_ESCAPED, get_global_id(0));
+    int rejected = 0;
 #if defined(HAS_BACKGROUND) && !defined(EYE_LIGHT)
     if (slot >= 0 && params.cameraPaths && scene->backgroundLight >= 0) {
         __global const Light* bg = &lights[scene->backgroundLight];
@@ -32,11 +33,12 @@ __kernel void escaped(RENDER_KERNEL_PARAMS)
         if (prevPdf > 0.0f)
             w = prevPdf * prevPdf / (prevPdf * prevPdf + lightPdf * lightPdf);
 #endif
-        add_radiance(pixelRadiance, pathPixel[slot], w * pathThroughput[slot].xyz * vload3(0, bg->emission),
-                     queueCounters);
+        add_radiance(pixelRadiance, pathPixel[slot],
+                     v3_mul(v3_scale(load_vec3(pathThroughput, slot), w), load3(bg->emission)), &rejected);
     }
 #endif
     queue_push4(queueItems, queueCounters, params.capacity,
-                (int4)(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), (int4)(slot >= 0, 0, 0, 0), slot,
+                lanes(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), lanes(slot >= 0, 0, 0, 0), slot,
                 scratch);
+    report_nonfinite(queueCounters, rejected);
 }

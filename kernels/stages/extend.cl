@@ -16,8 +16,8 @@ __kernel void extend(RENDER_KERNEL_PARAMS)
         found = trace_ray(nodes, trianglePackets, load_ray(rayOrigins, rayDirections, slot), false, &hit);
         hitTriangle[slot] = hit.triangle;
         hitT[slot] = found ? hit.t : INFINITY;
-        hitBary[slot] = (float2)(hit.b1, hit.b2);
+        store_vec2(hitBary, slot, v2(hit.b1, hit.b2));
     }
-    queue_push4(queueItems, queueCounters, params.capacity, (int4)(QUEUE_HITS, QUEUE_ESCAPED, NO_COUNTER, NO_COUNTER),
-                (int4)(slot >= 0 && found, slot >= 0 && !found, 0, 0), slot, scratch);
+    queue_push4(queueItems, queueCounters, params.capacity, lanes(QUEUE_HITS, QUEUE_ESCAPED, NO_COUNTER, NO_COUNTER),
+                lanes(slot >= 0 && found, slot >= 0 && !found, 0, 0), slot, scratch);
 }

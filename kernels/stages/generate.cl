@@ -32,12 +32,12 @@ __kernel void generate(RENDER_KERNEL_PARAMS)
     if (slot < 0)
         return;
     int sample = params.firstSample + (int)get_global_id(0);
-    float4 u = rng_uniform4(params.seed, params.iteration, (uint)sample, 0u, 0u);
-    Ray ray = camera_ray(camera, sample, u.xy);
+    Uniform4 u = rng_uniform4(params.seed, params.iteration, (uint)sample, 0u, 0u);
+    Ray ray = camera_ray(camera, sample, u.x, u.y);
     store_ray(rayOrigins, rayDirections, slot, ray);
     pathPixel[slot] = sample;
     pathDepth[slot] = 0;
-    pathThroughput[slot] = (float4)(1.0f);
+    store_vec3w(pathThroughput, slot, v3s(1.0f), 1.0f);
     pathPrevPdf[slot] = 0.0f; /* what the camera sees directly gets full weight */
 #ifdef BIDIRECTIONAL
     store_mis(pathMis, slot, mis_camera_start(params.lightTracePaths, camera_pdf_w(camera, ray.direction)));
@@ -51,17 +51,17 @@ __kernel void generate_light(RENDER_KERNEL_PARAMS)
     if (slot < 0)
         return;
     int lightPath = params.firstSample + (int)get_global_id(0);
-    float4 u = rng_uniform4(params.seed, params.iteration, (uint)lightPath, 0u, 2u);
-    float4 v = rng_uniform4(params.seed, params.iteration, (uint)lightPath, 0u, 3u);
+    Uniform4 u = rng_uniform4(params.seed, params.iteration, (uint)lightPath, 0u, 2u);
+    Uniform4 v = rng_uniform4(params.seed, params.iteration, (uint)lightPath, 0u, 3u);
     EmissionSample e;
     Ray ray;
-    float3 beta = (float3)(0.0f); /* a failed sample travels with nothing to carry and stores nothing */
+    vec3 beta = v3s(0.0f); /* a failed sample travels with nothing to carry and stores nothing */
     PathMis mis = {0.0f, 0.0f, 0.0f};
     bool finite = false;
-    if (sample_emission(lights, lightCdf, triVertices, scene, u.xyz, v.xy, &e)) {
+    if (sample_emission(lights, lightCdf, triVertices, scene, u, v, &e)) {
         finite = e.finite;
         float emissionPdfW = e.pdfPosition * e.pdfDirection;
-        beta = e.radiance * (e.cosAtLight / emissionPdfW);
+        beta = v3_scale(e.radiance, e.cosAtLight / emissionPdfW);
         mis = mis_light_start(e.directPdf, emissionPdfW, e.cosAtLight, e.finite, e.deltaPosition || e.deltaDirection,
                               params.vcWeightFactor);
         ray.origin = e.light >= 0 && lights[e.light].type == LIGHT_TRIANGLE
@@ -69,14 +69,14 @@ __kernel void generate_light(RENDER_KERNEL_PARAMS)
                          : e.position;
         ray.direction = e.direction;
     } else {
-        ray.origin = vload3(0, scene->center);
-        ray.direction = (float3)(0.0f, 0.0f, 1.0f);
+        ray.origin = load3c(scene->center);
+        ray.direction = v3(0.0f, 0.0f, 1.0f);
     }
     ray.tMax = INFINITY;
     store_ray(rayOrigins, rayDirections, slot, ray);
     pathPixel[slot] = lightPath;
     pathDepth[slot] = 0;
-    pathThroughput[slot] = (float4)(beta, 0.0f);
+    store_vec3w(pathThroughput, slot, beta, 0.0f);
     store_mis(pathMis, slot, mis);
     pathFlags[slot] = finite ? PATH_FINITE_LIGHT : 0;
     pathLastVertex[slot] = -1;

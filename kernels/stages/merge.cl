@@ -31,31 +31,31 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
         return;
     float radius2 = params.mergeRadius * params.mergeRadius;
     int buckets[8];
-    grid_query_buckets(cv.hit.p, 2.0f * params.mergeRadius, params.cellCount, buckets);
+    grid_query_buckets(to_float3(cv.hit.p), 2.0f * params.mergeRadius, params.cellCount, buckets);
     for (int k = 0; k < 8; ++k) /* the scan below loads them one after another */
         if (buckets[k] >= 0)
             PREFETCH(&bucketStarts[buckets[k]], 8);
     int depth = hit_depth(pathDepth, slot);
 
-    float3 sum = (float3)(0.0f);
+    vec3 sum = v3s(0.0f);
     for (int k = 0; k < 8; ++k) {
         if (buckets[k] < 0)
             continue;
         int end = bucketStarts[buckets[k] + 1];
         for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
             __global const MergeVertex* lv = &bucketVertices[j];
-            float3 d = vload3(0, lv->position) - cv.hit.p;
-            if (dot(d, d) > radius2)
+            vec3 d = v3_sub(load3(lv->position), cv.hit.p);
+            if (v3_dot(d, d) > radius2)
                 continue;
             if (!path_fits(depth + lv->pathLength, params.maxPathLength))
                 continue;
             /* The light arrives along the light vertex's incoming direction. */
-            float3 toLight = vload3(0, lv->toLight);
-            float3 toLightL = to_local(&cv.hit.frame, toLight);
+            vec3 toLight = load3(lv->toLight);
+            vec3 toLightL = to_local(&cv.hit.frame, toLight);
             if (!sides_agree(&cv.hit, toLight, toLightL))
                 continue;
             float pdfFwd, pdfRev;
-            float3 f = bsdf_eval(&cv.bsdf, cv.woL, toLightL, false, &pdfFwd, &pdfRev);
+            vec3 f = bsdf_eval(&cv.bsdf, cv.woL, toLightL, false, &pdfFwd, &pdfRev);
             if (!(max_component(f) > 0.0f))
                 continue;
             float w = 1.0f;
@@ -64,9 +64,11 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
             w = mis_weight_merge(lightMis, cv.mis, pdfFwd * cv.continuation, pdfRev * lv->continuation,
                                  params.vcWeightFactor);
 #endif
-            sum += w * f * vload3(0, lv->throughput);
+            sum = v3_add(sum, v3_mul(v3_scale(f, w), load3(lv->throughput)));
         }
     }
-    add_radiance(mergingRadiance, pathPixel[slot], pathThroughput[slot].xyz * sum * params.vmNormalization,
-                 queueCounters);
+    int rejected = 0;
+    add_radiance(mergingRadiance, pathPixel[slot],
+                 v3_scale(v3_mul(load_vec3(pathThroughput, slot), sum), params.vmNormalization), &rejected);
+    report_nonfinite(queueCounters, rejected);
 }

@@ -12,6 +12,7 @@
  *   4. sample the BSDF to continue, with Russian roulette by the material's
  *      continuation probability (part of every pdf in the weights); ppm ends
  *      the path at its first non-delta vertex, where it merged. */
+#include "core/nan_policy.h"
 #include "core/queues.h"
 #include "core/rng.h"
 #include "geometry/surface.h"
@@ -28,19 +29,19 @@ typedef struct CameraHitResult {
     int alive, shadowRay;
 } CameraHitResult;
 
-INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchParams* params, int slot)
+INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchParams* params, int slot, int* rejected)
 {
     CameraHitResult r = {0, 0};
     int tri = b->hitTriangle[slot];
-    float3 wo = -b->rayDirections[slot].xyz;
-    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, b->hitBary[slot], wo);
-    float3 woL = to_local(&hit.frame, wo);
+    vec3 wo = v3_neg(load_vec3(b->rayDirections, slot));
+    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, load_vec2(b->hitBary, slot), wo);
+    vec3 woL = to_local(&hit.frame, wo);
     int depth = hit_depth(b->pathDepth, slot);
     int pixel = b->pathPixel[slot];
-    float3 beta = b->pathThroughput[slot].xyz;
+    vec3 beta = load_vec3(b->pathThroughput, slot);
     PathMis mis = load_mis(b->pathMis, slot);
     mis_at_hit(&mis, b->hitT[slot], fabs(woL.z), true);
-    float3 L = (float3)(0.0f);
+    vec3 L = v3s(0.0f);
 
 #ifdef HAS_EMISSIVE_TRIANGLES
     int light = b->triangleLight[tri];
@@ -52,12 +53,12 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 #else
         if (depth > 1) {
             float directPdfA, emissionPdfW;
-            triangle_hit_pdfs(b->lights[light].pmf, b->lights[light].area, dot(wo, hit.ngF), &directPdfA,
+            triangle_hit_pdfs(b->lights[light].pmf, b->lights[light].area, v3_dot(wo, hit.ngF), &directPdfA,
                               &emissionPdfW);
             w = mis_weight_emission_hit(mis, directPdfA, emissionPdfW);
         }
 #endif
-        L += w * beta * vload3(0, b->lights[light].emission);
+        L = v3_add(L, v3_scale(v3_mul(beta, load3(b->lights[light].emission)), w));
     }
 #endif
 
@@ -71,23 +72,23 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 
 #ifndef VERTEX_MERGING_ONLY
     if (alive && b->scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
-        float4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 0u);
+        Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 0u);
         LightSample ls;
-        if (sample_light(b->lights, b->lightCdf, b->triVertices, b->scene, hit.p, u.xyz, &ls)) {
-            float3 wiL = to_local(&hit.frame, ls.direction);
+        if (sample_light(b->lights, b->lightCdf, b->triVertices, b->scene, hit.p, u, &ls)) {
+            vec3 wiL = to_local(&hit.frame, ls.direction);
             if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfFwd, pdfRev;
-                float3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfFwd, &pdfRev);
+                vec3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfFwd, &pdfRev);
                 float cosToLight = fabs(wiL.z);
                 float bsdfDirPdfW = ls.delta ? 0.0f : pdfFwd * cont;
                 float bsdfRevPdfW = pdfRev * cont;
                 float w = mis_weight_nee(mis, bsdfDirPdfW, bsdfRevPdfW, ls.directPdfW, ls.emissionPdfW, cosToLight,
                                          ls.cosAtLight, params->vmWeightFactor);
-                float3 contribution = beta * f * ls.radiance * (w * cosToLight / ls.pdf);
-                if (max_component(f) > 0.0f && accept_finite(contribution, b->queueCounters)) {
+                vec3 contribution = v3_mul(v3_mul(beta, f), v3_scale(ls.radiance, w * cosToLight / ls.pdf));
+                if (max_component(f) > 0.0f && accept_finite(contribution, rejected)) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,
                               shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));
-                    b->shadowContribution[slot] = (float4)(contribution, 0.0f);
+                    store_vec3w(b->shadowContribution, slot, contribution, 0.0f);
                     r.shadowRay = 1;
                 }
             }
@@ -96,10 +97,10 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 #endif
 
     if (alive) {
-        float4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 1u);
+        Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 1u);
         Scatter s;
         alive = continue_bidirectional(&bsdf, &hit, wo, woL, u, false, cont, params, &mis, &beta, &s) &&
-                store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth);
+                store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth, rejected);
         if (alive) {
             store_mis(b->pathMis, slot, mis);
             if (!s.delta)
@@ -108,7 +109,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
     }
     r.alive = alive ? 1 : 0;
 #endif
-    add_radiance(b->pixelRadiance, pixel, L, b->queueCounters);
+    add_radiance(b->pixelRadiance, pixel, L, rejected);
     return r;
 }
 
@@ -119,9 +120,11 @@ __kernel void shade_bidirectional(RENDER_KERNEL_PARAMS)
     prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     CameraHitResult r = {0, 0};
+    int rejected = 0;
     if (slot >= 0)
-        r = shade_camera_hit(&b, &params, slot);
+        r = shade_camera_hit(&b, &params, slot, &rejected);
     queue_push4(queueItems, queueCounters, params.capacity,
-                (int4)(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
-                (int4)(r.shadowRay, r.alive, slot >= 0 && !r.alive, 0), slot, scratch);
+                lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
+                lanes(r.shadowRay, r.alive, slot >= 0 && !r.alive, 0), slot, scratch);
+    report_nonfinite(queueCounters, rejected);
 }

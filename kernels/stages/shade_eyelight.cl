@@ -11,14 +11,14 @@ __kernel void shade_eyelight(RENDER_KERNEL_PARAMS)
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot >= 0) {
         int tri = hitTriangle[slot];
-        float3 n = geometric_normal(triVertices, tri);
+        vec3 n = geometric_normal(triVertices, tri);
 #ifdef HAS_VERTEX_NORMALS
-        n = shading_normal(triNormals, tri, hitBary[slot], n);
+        n = shading_normal(triNormals, tri, load_vec2(hitBary, slot), n);
 #endif
-        float value = fabs(dot(normalize(rayDirections[slot].xyz), n));
-        pixelRadiance[pathPixel[slot]] += (float4)(value, value, value, 0.0f);
+        float value = fabs(v3_dot(v3_normalize(load_vec3(rayDirections, slot)), n));
+        add_vec3(pixelRadiance, pathPixel[slot], v3s(value));
     }
     queue_push4(queueItems, queueCounters, params.capacity,
-                (int4)(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), (int4)(slot >= 0, 0, 0, 0), slot,
+                lanes(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), lanes(slot >= 0, 0, 0, 0), slot,
                 scratch);
 }

@@ -12,6 +12,7 @@
  * a vertex of depth d connects to the camera if d + 1 segments fit, and is
  * only worth continuing from if a path through the next vertex (d + 2
  * segments, the camera connection included) fits. */
+#include "core/nan_policy.h"
 #include "core/queues.h"
 #include "core/rng.h"
 #include "geometry/surface.h"
@@ -30,18 +31,18 @@ typedef struct LightHitResult {
     LightVertex vertex;
 } LightHitResult;
 
-INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams* params, int slot)
+INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams* params, int slot, int* rejected)
 {
     LightHitResult r;
     r.alive = r.shadowRay = r.storeVertex = 0;
-    float3 beta = b->pathThroughput[slot].xyz;
+    vec3 beta = load_vec3(b->pathThroughput, slot);
     if (!(max_component(beta) > 0.0f))
         return r; /* a failed emission sample */
     int tri = b->hitTriangle[slot];
-    float2 bary = b->hitBary[slot];
-    float3 wLight = -b->rayDirections[slot].xyz; /* back along the light path */
+    vec2 bary = load_vec2(b->hitBary, slot);
+    vec3 wLight = v3_neg(load_vec3(b->rayDirections, slot)); /* back along the light path */
     SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, bary, wLight);
-    float3 wLightL = to_local(&hit.frame, wLight);
+    vec3 wLightL = to_local(&hit.frame, wLight);
     int depth = hit_depth(b->pathDepth, slot);
     int lightPath = b->pathPixel[slot];
     PathMis mis = load_mis(b->pathMis, slot);
@@ -55,9 +56,9 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
         if (params->storeVertices) {
             r.storeVertex = 1;
             LightVertex* v = &r.vertex;
-            vstore3(hit.p, 0, v->position);
-            vstore3(beta, 0, v->throughput);
-            vstore3(wLight, 0, v->toLight);
+            store3(v->position, hit.p);
+            store3(v->throughput, beta);
+            store3(v->toLight, wLight);
             v->dVCM = mis.dVCM;
             v->dVC = mis.dVC;
             v->dVM = mis.dVM;
@@ -68,28 +69,28 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
             v->continuation = cont;
         }
         if (params->connectToCamera && path_fits(depth + 1, params->maxPathLength)) {
-            float3 cameraPosition = vload3(0, b->camera->position);
-            float3 toCamera = cameraPosition - hit.p;
-            float dist2 = dot(toCamera, toCamera);
-            toCamera *= rsqrt(dist2);
-            float3 toCameraL = to_local(&hit.frame, toCamera);
+            vec3 cameraPosition = load3c(b->camera->position);
+            vec3 toCamera = v3_sub(cameraPosition, hit.p);
+            float dist2 = v3_dot(toCamera, toCamera);
+            toCamera = v3_scale(toCamera, rsqrt(dist2));
+            vec3 toCameraL = to_local(&hit.frame, toCamera);
             int pixel = camera_pixel(b->camera, hit.p);
             if (pixel >= 0 && sides_agree(&hit, toCamera, toCameraL)) {
                 float pdfFwd, pdfRev;
-                float3 f = bsdf_eval(&bsdf, wLightL, toCameraL, true, &pdfFwd, &pdfRev) *
-                           adjoint_shading_correction(&hit, wLight, toCamera);
+                vec3 f = v3_scale(bsdf_eval(&bsdf, wLightL, toCameraL, true, &pdfFwd, &pdfRev),
+                                  adjoint_shading_correction(&hit, wLight, toCamera));
                 /* Density of the camera sampling this point, per unit area. */
-                float cameraPdfA = camera_pdf_w(b->camera, -toCamera) * fabs(toCameraL.z) / dist2;
+                float cameraPdfA = camera_pdf_w(b->camera, v3_neg(toCamera)) * fabs(toCameraL.z) / dist2;
                 float w = 1.0f; /* lt: the only technique for these paths */
 #ifndef LIGHT_TRACING
                 w = mis_weight_light_to_camera(mis, cameraPdfA, params->lightTracePaths, pdfRev * cont,
                                                params->vmWeightFactor);
 #endif
-                float3 contribution = w * beta * f * (cameraPdfA / params->lightTracePaths);
-                if (accept_finite(contribution, b->queueCounters) && max_component(contribution) > 0.0f) {
+                vec3 contribution = v3_scale(v3_mul(beta, f), w * (cameraPdfA / params->lightTracePaths));
+                if (accept_finite(contribution, rejected) && max_component(contribution) > 0.0f) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,
-                              ray_between(hit.p, hit.pError, hit.ngF, cameraPosition, (float3)(0.0f), -toCamera));
-                    b->shadowContribution[slot] = (float4)(contribution, 0.0f);
+                              ray_between(hit.p, hit.pError, hit.ngF, cameraPosition, v3s(0.0f), v3_neg(toCamera)));
+                    store_vec3w(b->shadowContribution, slot, contribution, 0.0f);
                     b->shadowPixel[slot] = pixel;
                     r.shadowRay = 1;
                 }
@@ -99,10 +100,10 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
 
     if (!path_fits(depth + 2, params->maxPathLength))
         return r; /* the next vertex could not even connect to the camera */
-    float4 u = rng_uniform4(params->seed, params->iteration, (uint)lightPath, (uint)depth, 3u);
+    Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)lightPath, (uint)depth, 3u);
     Scatter s;
     if (!continue_bidirectional(&bsdf, &hit, wLight, wLightL, u, true, cont, params, &mis, &beta, &s) ||
-        !store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth))
+        !store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth, rejected))
         return r;
     store_mis(b->pathMis, slot, mis);
     r.alive = 1;
@@ -117,14 +118,15 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     LightHitResult r;
     r.alive = r.shadowRay = r.storeVertex = 0;
+    int rejected = 0;
     if (slot >= 0)
-        r = shade_light_hit(&b, &params, slot);
+        r = shade_light_hit(&b, &params, slot, &rejected);
     /* One reservation for the three queues and the light vertices. The
      * vertex counter keeps counting past the buffer's end, so the host sees
      * how many vertices were wanted and can retry with room for them. */
-    int4 queues = (int4)(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, COUNTER_LIGHT_VERTICES);
-    int4 at = group_allocate4(queueCounters, queues,
-                              (int4)(r.shadowRay, r.alive, slot >= 0 && !r.alive, r.storeVertex), scratch);
+    Lanes queues = lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, COUNTER_LIGHT_VERTICES);
+    Lanes at = group_allocate4(queueCounters, queues,
+                              lanes(r.shadowRay, r.alive, slot >= 0 && !r.alive, r.storeVertex), scratch);
     if (at.x >= 0)
         queueItems[queues.x * params.capacity + at.x] = slot;
     if (at.y >= 0)
@@ -137,4 +139,5 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
         pathLastVertex[slot] = at.w;
         lightPathHead[pathPixel[slot] - params.firstLightPath] = at.w;
     }
+    report_nonfinite(queueCounters, rejected);
 }

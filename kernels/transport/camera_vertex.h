@@ -12,7 +12,7 @@
 
 typedef struct CameraVertex {
     SurfaceHit hit;
-    float3 woL; /* towards the camera, local frame */
+    vec3 woL; /* towards the camera, local frame */
     Bsdf bsdf;
     PathMis mis;
     float continuation;
@@ -22,8 +22,8 @@ INLINE CameraVertex camera_vertex(const RenderBuffers* b, int slot)
 {
     CameraVertex v;
     int tri = b->hitTriangle[slot];
-    float3 wo = -b->rayDirections[slot].xyz;
-    v.hit = surface_hit(b->triVertices, b->triNormals, tri, b->hitBary[slot], wo);
+    vec3 wo = v3_neg(load_vec3(b->rayDirections, slot));
+    v.hit = surface_hit(b->triVertices, b->triNormals, tri, load_vec2(b->hitBary, slot), wo);
     v.woL = to_local(&v.hit.frame, wo);
     v.bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], v.woL, v.hit.frontSide);
     v.mis = load_mis(b->pathMis, slot);

@@ -7,6 +7,8 @@
 #define WAVEVCM_CONTINUE_PATH_H
 
 #include "core/nan_policy.h"
+#include "core/rng.h"
+#include "core/vec3.h"
 #include "geometry/surface.h"
 #include "interface/inline.h"
 #include "interface/kernel_interface.h"
@@ -15,8 +17,8 @@
 #include "path_state.h"
 
 typedef struct Scatter {
-    float3 wi;     /* the sampled direction, world space */
-    float3 weight; /* f·|cos θi|/pdf; light paths: adjoint form with Veach's shading-normal correction */
+    vec3 wi;       /* the sampled direction, world space */
+    vec3 weight;   /* f·|cos θi|/pdf; light paths: adjoint form with Veach's shading-normal correction */
     float pdfW;    /* solid-angle pdf of wi (a delta lobe: its selection probability) */
     float revPdfW; /* pdf of sampling wo from wi (= pdfW for a delta lobe) */
     float cosIn;   /* |cos θi| at the shading normal */
@@ -29,16 +31,16 @@ typedef struct Scatter {
  * wi lies on the other side of the geometric surface than its side of the
  * shading frame says (sides_agree). `reverse`: evaluate revPdfW too (the
  * bidirectional MIS needs it; pt does not). */
-INLINE bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, float3 woL, float3 u, bool adjoint,
-                           bool reverse, Scatter* s)
+INLINE bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, vec3 wo, vec3 woL, Uniform4 u, bool adjoint,
+                    bool reverse, Scatter* s)
 {
     BsdfSample bs;
-    if (!bsdf_sample(bsdf, woL, u, adjoint, &bs))
+    if (!bsdf_sample(bsdf, woL, u.x, u.y, u.z, adjoint, &bs))
         return false;
     s->wi = to_world(&hit->frame, bs.wi);
     if (!sides_agree(hit, s->wi, bs.wi))
         return false;
-    s->weight = adjoint ? bs.weight * adjoint_shading_correction(hit, wo, s->wi) : bs.weight;
+    s->weight = adjoint ? v3_scale(bs.weight, adjoint_shading_correction(hit, wo, s->wi)) : bs.weight;
     s->pdfW = bs.pdf;
     s->revPdfW = bs.pdf;
     if (reverse && !bs.delta) {
@@ -57,29 +59,29 @@ INLINE bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, float3 w
  * probability `cont` (u.w < cont; it is part of both pdfs, so of every MIS
  * weight), update the MIS quantities (Georgiev's report, eqs. 34-36) and the
  * throughput, β ← β · weight / cont. */
-INLINE bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, float3 wo, float3 woL, float4 u,
-                                          bool adjoint, float cont, const LaunchParams* params, PathMis* mis,
-                                          float3* beta, Scatter* s)
+INLINE bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, vec3 wo, vec3 woL, Uniform4 u,
+                                   bool adjoint, float cont, const LaunchParams* params, PathMis* mis, vec3* beta,
+                                   Scatter* s)
 {
-    if (!scatter(bsdf, hit, wo, woL, u.xyz, adjoint, true, s) || !(u.w < cont))
+    if (!scatter(bsdf, hit, wo, woL, u, adjoint, true, s) || !(u.w < cont))
         return false;
     mis_after_scatter(mis, s->delta, s->cosIn, s->pdfW * cont, s->revPdfW * cont, params->vmWeightFactor,
                       params->vcWeightFactor);
-    *beta *= s->weight / cont;
+    *beta = v3_mul(*beta, v3_div(s->weight, cont));
     return true;
 }
 
 /* The next segment of path `slot`: from `hit` along wi, with throughput beta
  * (w: pt's η² scale, else 0) and depth `depth` for the vertex it leaves.
- * False, and nothing stored, when beta is zero or rejected by the NaN policy:
- * the path ends. */
-INLINE bool store_continuation(const RenderBuffers* b, int slot, const SurfaceHit* hit, float3 wi,
-                                      float3 beta, float w, int depth)
+ * False, and nothing stored, when beta is zero or rejected by the NaN policy
+ * (counted in *rejected): the path ends. */
+INLINE bool store_continuation(const RenderBuffers* b, int slot, const SurfaceHit* hit, vec3 wi, vec3 beta,
+                               float w, int depth, int* rejected)
 {
-    if (!accept_finite(beta, b->queueCounters) || !(max_component(beta) > 0.0f))
+    if (!accept_finite(beta, rejected) || !(max_component(beta) > 0.0f))
         return false;
     store_ray(b->rayOrigins, b->rayDirections, slot, spawn_ray(hit->p, hit->pError, hit->ngF, wi));
-    b->pathThroughput[slot] = (float4)(beta, w);
+    store_vec3w(b->pathThroughput, slot, beta, w);
     b->pathDepth[slot] = depth;
     return true;
 }

@@ -7,6 +7,7 @@
 #ifndef WAVEVCM_MIS_H
 #define WAVEVCM_MIS_H
 
+#include "core/vec3.h"
 #include "interface/inline.h"
 
 typedef struct PathMis {
@@ -15,12 +16,12 @@ typedef struct PathMis {
 
 INLINE PathMis load_mis(__global const float4* m, int slot)
 {
-    float4 v = m[slot];
+    vec3 v = load_vec3(m, slot);
     PathMis r = {v.x, v.y, v.z};
     return r;
 }
 
-INLINE void store_mis(__global float4* m, int slot, PathMis v) { m[slot] = (float4)(v.dVCM, v.dVC, v.dVM, 0.0f); }
+INLINE void store_mis(__global float4* m, int slot, PathMis v) { store_vec3w(m, slot, v3(v.dVCM, v.dVC, v.dVM), 0.0f); }
 
 /* Light sub-path start (eqs. 31-33; delta lights 48-50): directPdf is the
  * density of next-event estimation choosing this point (area) or direction

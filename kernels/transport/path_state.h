@@ -20,6 +20,7 @@
 #include "core/prefetch.h"
 #include "core/queues.h"
 #include "core/ray.h"
+#include "core/vec3.h"
 #include "interface/inline.h"
 #include "interface/kernel_interface.h"
 
@@ -35,18 +36,17 @@ INLINE bool path_fits(int segments, int maxPathLength) { return segments <= maxP
 
 INLINE Ray load_ray(__global const float4* origins, __global const float4* directions, int slot)
 {
-    float4 o = origins[slot], d = directions[slot];
     Ray r;
-    r.origin = o.xyz;
-    r.direction = d.xyz;
-    r.tMax = d.w;
+    r.origin = load_vec3(origins, slot);
+    r.direction = load_vec3(directions, slot);
+    r.tMax = load_w(directions, slot);
     return r;
 }
 
 INLINE void store_ray(__global float4* origins, __global float4* directions, int slot, Ray r)
 {
-    origins[slot] = (float4)(r.origin, 0.0f);
-    directions[slot] = (float4)(r.direction, r.tMax);
+    store_vec3w(origins, slot, r.origin, 0.0f);
+    store_vec3w(directions, slot, r.direction, r.tMax);
 }
 
 /* Hints for the path state of queue entries ahead (CPU devices only, see

@@ -17,22 +17,23 @@ __kernel void sample_bsdf(__global const Material* materials, __global const int
     if (i >= count)
         return;
     int4 setup = setups[i];
-    float3 wo = wos[i].xyz;
+    vec3 wo = from_float3(wos[i].xyz);
     bool adjoint = setup.z != 0;
     Bsdf b = make_bsdf(&materials[setup.x], wo, setup.y != 0);
     BsdfSample s;
-    s.wi = (float3)(0.0f);
-    s.weight = (float3)(0.0f);
+    s.wi = v3s(0.0f);
+    s.weight = v3s(0.0f);
     s.pdf = 0.0f;
     s.delta = false;
-    bool ok = bsdf_sample(&b, wo, us[i].xyz, adjoint, &s);
+    float4 u = us[i];
+    bool ok = bsdf_sample(&b, wo, u.x, u.y, u.z, adjoint, &s);
     float pdfFwd = 0.0f, pdfRev = 0.0f;
-    float3 f = (float3)(0.0f);
+    vec3 f = v3s(0.0f);
     if (ok && !s.delta)
         f = bsdf_eval(&b, wo, s.wi, adjoint, &pdfFwd, &pdfRev);
-    wiPdf[i] = (float4)(s.wi, s.pdf);
-    weightStatus[i] = (float4)(s.weight, ok ? (s.delta ? 2.0f : 1.0f) : 0.0f);
-    evalF[i] = (float4)(f, pdfFwd);
+    wiPdf[i] = (float4)(to_float3(s.wi), s.pdf);
+    weightStatus[i] = (float4)(to_float3(s.weight), ok ? (s.delta ? 2.0f : 1.0f) : 0.0f);
+    evalF[i] = (float4)(to_float3(f), pdfFwd);
 }
 
 /* bsdf_eval(wo[i], wi[i]): f and the forward pdf in evalF, the reverse pdf in
@@ -45,19 +46,19 @@ __kernel void eval_bsdf(__global const Material* materials, __global const int4*
     if (i >= count)
         return;
     int4 setup = setups[i];
-    float3 wo = wos[i].xyz;
+    vec3 wo = from_float3(wos[i].xyz);
     Bsdf b = make_bsdf(&materials[setup.x], wo, setup.y != 0);
     float pdfFwd, pdfRev;
-    float3 f = bsdf_eval(&b, wo, wis[i].xyz, setup.z != 0, &pdfFwd, &pdfRev);
-    evalF[i] = (float4)(f, pdfFwd);
+    vec3 f = bsdf_eval(&b, wo, from_float3(wis[i].xyz), setup.z != 0, &pdfFwd, &pdfRev);
+    evalF[i] = (float4)(to_float3(f), pdfFwd);
     evalPdfRev[i] = pdfRev;
-    lobeProb[i] = (float4)(b.lobeProb, b.eta);
+    lobeProb[i] = (float4)(to_float3(b.lobeProb), b.eta);
 }
 
 /* The forward pdf over one bin [θ0, θ0 + dθ] × [φ0, φ0 + dφ]: the midpoint
  * rule with sub × sub points, dω = sin θ dθ dφ. Row sums keep the float
  * accumulation short. */
-INLINE float bin_integral(const Bsdf* b, float3 wo, bool adjoint, float theta0, float dTheta, float phi0,
+INLINE float bin_integral(const Bsdf* b, vec3 wo, bool adjoint, float theta0, float dTheta, float phi0,
                           float dPhi, int sub)
 {
     float sum = 0.0f;
@@ -67,7 +68,7 @@ INLINE float bin_integral(const Bsdf* b, float3 wo, bool adjoint, float theta0, 
         float row = 0.0f;
         for (int c = 0; c < sub; ++c) {
             float phi = phi0 + ((float)c + 0.5f) / (float)sub * dPhi;
-            float3 wi = (float3)(sinTheta * cos(phi), sinTheta * sin(phi), cosTheta);
+            vec3 wi = v3(sinTheta * cos(phi), sinTheta * sin(phi), cosTheta);
             float pdfFwd, pdfRev;
             bsdf_eval(b, wo, wi, adjoint, &pdfFwd, &pdfRev);
             row += pdfFwd;
@@ -89,7 +90,7 @@ __kernel void pdf_bin_integrals(__global const Material* materials, int4 setup, 
     int bin = get_global_id(0);
     if (bin >= thetaBins * phiBins)
         return;
-    float3 wo = wo4.xyz;
+    vec3 wo = from_float3(wo4.xyz);
     bool adjoint = setup.z != 0;
     Bsdf b = make_bsdf(&materials[setup.x], wo, setup.y != 0);
     float dTheta = PI_F / (float)thetaBins, dPhi = 2.0f * PI_F / (float)phiBins;

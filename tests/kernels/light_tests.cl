@@ -12,12 +12,12 @@ __kernel void emission_power(__global const Light* lights, __global const float*
     int i = get_global_id(0);
     if (i >= n)
         return;
-    float4 u = rng_uniform4(1u, 0u, (uint)i, 0u, 0u), v = rng_uniform4(1u, 0u, (uint)i, 0u, 1u);
+    Uniform4 u = rng_uniform4(1u, 0u, (uint)i, 0u, 0u), v = rng_uniform4(1u, 0u, (uint)i, 0u, 1u);
     EmissionSample e;
-    float3 estimate = (float3)(0.0f);
-    if (sample_emission(lights, cdf, triVertices, scene, u.xyz, v.xy, &e))
-        estimate = e.radiance * (e.cosAtLight / (e.pdfPosition * e.pdfDirection));
-    estimates[i] = (float4)(estimate, 0.0f);
+    vec3 estimate = v3s(0.0f);
+    if (sample_emission(lights, cdf, triVertices, scene, u, v, &e))
+        estimate = v3_scale(e.radiance, e.cosAtLight / (e.pdfPosition * e.pdfDirection));
+    estimates[i] = (float4)(to_float3(estimate), 0.0f);
 }
 
 /* Per sample: the NEE estimate of irradiance at point p with normal n,
@@ -30,10 +30,10 @@ __kernel void nee_irradiance(__global const Light* lights, __global const float*
     int i = get_global_id(0);
     if (i >= count)
         return;
-    float4 u = rng_uniform4(2u, 0u, (uint)i, 0u, 0u);
+    Uniform4 u = rng_uniform4(2u, 0u, (uint)i, 0u, 0u);
     LightSample s;
-    float3 estimate = (float3)(0.0f);
-    if (sample_light(lights, cdf, triVertices, scene, p.xyz, u.xyz, &s))
-        estimate = s.radiance * (fmax(0.0f, dot(s.direction, n.xyz)) / s.pdf);
-    estimates[i] = (float4)(estimate, 0.0f);
+    vec3 estimate = v3s(0.0f);
+    if (sample_light(lights, cdf, triVertices, scene, from_float3(p.xyz), u, &s))
+        estimate = v3_scale(s.radiance, fmax(0.0f, v3_dot(s.direction, from_float3(n.xyz))) / s.pdf);
+    estimates[i] = (float4)(to_float3(estimate), 0.0f);
 }

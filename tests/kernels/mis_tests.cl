@@ -14,8 +14,8 @@ typedef struct Densities {
 /* The BSDF at a vertex with normal n: densities of `out` given `fixed` and back. */
 INLINE Densities densities(__global const Material* m, float3 n, float3 fixed, float3 out)
 {
-    Frame f = frame_from_normal(n);
-    float3 a = to_local(&f, fixed), b = to_local(&f, out);
+    Frame f = frame_from_normal(from_float3(n));
+    vec3 a = to_local(&f, from_float3(fixed)), b = to_local(&f, from_float3(out));
     Bsdf bsdf = make_bsdf(m, a, true);
     Densities d;
     bsdf_eval(&bsdf, a, b, false, &d.fwd, &d.rev);
@@ -58,7 +58,7 @@ __kernel void technique_weights(__constant const Camera* camera, __global const 
 
     /* Camera sub-path states at z_{k-1} … z_0. */
     PathMis cameraAt[MAX_VERTICES];
-    m = mis_camera_start(lightPaths, camera_pdf_w(camera, unit(z[k], z[k - 1])));
+    m = mis_camera_start(lightPaths, camera_pdf_w(camera, from_float3(unit(z[k], z[k - 1]))));
     for (int j = k - 1; j >= 0; --j) {
         mis_at_hit(&m, dist(z[j + 1], z[j]), fabs(dot(n[j], unit(z[j], z[j + 1]))), true);
         cameraAt[j] = m;
@@ -99,7 +99,7 @@ __kernel void technique_weights(__constant const Camera* camera, __global const 
         float3 l = z[k - 1];
         float d2 = dot(z[k] - l, z[k] - l);
         Densities d = densities(material, n[k - 1], unit(l, z[k - 2]), unit(l, z[k]));
-        float cameraPdfA = camera_pdf_w(camera, unit(z[k], l)) * fabs(dot(n[k - 1], unit(l, z[k]))) / d2;
+        float cameraPdfA = camera_pdf_w(camera, from_float3(unit(z[k], l))) * fabs(dot(n[k - 1], unit(l, z[k]))) / d2;
         sum += mis_weight_light_to_camera(lightAt[k - 1], cameraPdfA, lightPaths, d.rev * d.cont, vmWeightFactor);
         ++count;
     }

@@ -40,14 +40,14 @@ __kernel void spawn_and_trace(__global const BvhNode* nodes, __global const Tria
     if (i >= rayCount)
         return;
     int tri = sources[i];
-    float3 v0 = triVertices[3 * tri].xyz, v1 = triVertices[3 * tri + 1].xyz,
-           v2 = triVertices[3 * tri + 2].xyz;
-    float2 b = barycentrics[i];
-    float3 error;
-    float3 p = surface_point(v0, v1, v2, b.x, b.y, &error);
-    float3 ng = normalize(cross(v1 - v0, v2 - v0));
+    vec3 v0 = load_vec3(triVertices, 3 * tri), v1 = load_vec3(triVertices, 3 * tri + 1),
+         v2 = load_vec3(triVertices, 3 * tri + 2);
+    vec2 b = load_vec2(barycentrics, i);
+    vec3 error;
+    vec3 p = surface_point(v0, v1, v2, b.x, b.y, &error);
+    vec3 ng = v3_normalize(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
     Hit hit;
-    trace_ray(nodes, packets, spawn_ray(p, error, ng, directions[i].xyz), false, &hit);
+    trace_ray(nodes, packets, spawn_ray(p, error, ng, load_vec3(directions, i)), false, &hit);
     hitT[i] = hit.triangle >= 0 ? hit.t : INFINITY;
     hitTriangle[i] = hit.triangle;
 }
