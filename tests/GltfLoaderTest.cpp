@@ -783,6 +783,47 @@ TEST_F(GltfLoader, MalformedBackgroundThrows)
     }
 }
 
+// A 4 × 2 map beside the glTF file, as extras.environment names it: read with
+// the scene (rows from the top, texel values kept), its strength and rotation
+// taken; a missing map, a non-linear format or a bad number is an error
+// naming what is wrong.
+TEST_F(GltfLoader, EnvironmentFromSceneExtras)
+{
+    std::vector<float> texels(4 * 2 * 3);
+    for (size_t i = 0; i < texels.size(); ++i) texels[i] = float(i);
+    std::string header = "PF\n4 2\n-1.0\n";
+    std::vector<char> pfm(header.begin(), header.end());
+    for (int row = 1; row >= 0; --row) { // PFM stores the bottom row first
+        const char* p = reinterpret_cast<const char*>(&texels[size_t(row) * 12]);
+        pfm.insert(pfm.end(), p, p + 12 * sizeof(float));
+    }
+    writeFile(dir_ / "map.pfm", pfm.data(), pfm.size());
+
+    GltfBuilder b = oneTriangle();
+    b.j["scenes"][0]["extras"]["environment"] = {{"uri", "map.pfm"}, {"strength", 2.5}, {"rotation", 90}};
+    Scene s = load(b, "env");
+    ASSERT_EQ(s.environment.image.width, 4);
+    ASSERT_EQ(s.environment.image.height, 2);
+    EXPECT_EQ(s.environment.image.rgb, texels);
+    EXPECT_FLOAT_EQ(s.environment.strength, 2.5f);
+    EXPECT_FLOAT_EQ(s.environment.rotation, 90.0f);
+    EXPECT_TRUE(s.features().environmentMap);
+    EXPECT_TRUE(s.hasLight());
+
+    int n = 0;
+    for (auto [environment, message] :
+         {std::pair{json{{"uri", "missing.pfm"}}, std::string("missing.pfm: no such file")},
+          std::pair{json{{"uri", "map.png"}}, std::string("must be linear radiance")},
+          std::pair{json{{"uri", "map.pfm"}, {"strength", -1}}, std::string("strength must be >= 0")},
+          std::pair{json{{"uri", "map.pfm"}, {"rotation", "north"}}, std::string("rotation must be a finite number")},
+          std::pair{json("map.pfm"), std::string("\"uri\" string")}}) {
+        SCOPED_TRACE(environment.dump());
+        GltfBuilder bad = oneTriangle();
+        bad.j["scenes"][0]["extras"]["environment"] = environment;
+        expectLoadError(bad.writeGltf(dir_, "badenv" + std::to_string(n++)), message);
+    }
+}
+
 // -------------------------------------------------------------------- errors
 
 TEST_F(GltfLoader, MissingFileThrows)

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -63,6 +64,7 @@ Estimate run(const Scene& scene, const char* kernelName, int n, std::array<float
     cl::Program program = test::buildTestProgram(
         device, {test::testKernel("light_tests.cl")},
         "-DHAS_EMISSIVE_TRIANGLES -DHAS_POINT_LIGHTS -DHAS_DIRECTIONAL_LIGHTS -DHAS_BACKGROUND" +
+            std::string(scene.environment.empty() ? "" : " -DHAS_ENVIRONMENT_MAP") +
             lightSelectOption(table.info.lightCount));
     cl::Buffer out = deviceBuffer(device, size_t(n) * 16, "estimates");
     cl::Kernel k(program, kernelName);
@@ -71,6 +73,9 @@ Estimate run(const Scene& scene, const char* kernelName, int n, std::array<float
     k.setArg(arg++, buffers.lightCdf);
     k.setArg(arg++, buffers.triVertices);
     k.setArg(arg++, buffers.sceneInfo);
+    k.setArg(arg++, buffers.envRadiance);
+    k.setArg(arg++, buffers.envMarginalCdf);
+    k.setArg(arg++, buffers.envConditionalCdf);
     if (std::string(kernelName) == "nee_irradiance") {
         k.setArg(arg++, sizeof(cl_float4), p.data());
         k.setArg(arg++, sizeof(cl_float4), nrm.data());
@@ -97,6 +102,41 @@ Estimate run(const Scene& scene, const char* kernelName, int n, std::array<float
 // The estimate agrees with the closed form within 4 standard errors (a false
 // alarm ~1e-4 per channel) or 1e-5 relative where the estimator has no
 // variance (a single delta light).
+// An 8 × 4 environment map whose texels all differ, one of them 40 times
+// brighter than the rest, turned by 30°, at strength 1.5.
+EnvironmentMap testEnvironment()
+{
+    EnvironmentMap m;
+    m.path = "test environment";
+    m.image = Image(8, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) {
+            float* c = &m.image.rgb[3 * size_t(y * 8 + x)];
+            c[0] = 0.2f + 0.1f * float(x);
+            c[1] = 0.3f + 0.2f * float(y);
+            c[2] = (x == 5 && y == 1) ? 20.0f : 0.5f;
+        }
+    m.strength = 1.5f;
+    m.rotation = 30;
+    return m;
+}
+
+// Σ over texels of radiance × weight(row): the closed forms below integrate
+// a piecewise-constant map exactly.
+template <typename RowWeight>
+std::array<double, 3> sumOverTexels(const EnvironmentMap& m, RowWeight weight)
+{
+    std::array<double, 3> sum{};
+    for (int y = 0; y < m.image.height; ++y) {
+        double theta0 = kPi * y / m.image.height, theta1 = kPi * (y + 1) / m.image.height;
+        for (int x = 0; x < m.image.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                sum[size_t(c)] += m.strength * m.image.rgb[3 * size_t(y * m.image.width + x) + size_t(c)] *
+                                  weight(theta0, theta1) * 2 * kPi / m.image.width;
+    }
+    return sum;
+}
+
 void expectNear(const Estimate& e, std::array<double, 3> expected, const char* what)
 {
     for (int c = 0; c < 3; ++c)
@@ -141,6 +181,17 @@ TEST(Lights, EmissionSamplingCarriesEachLightsPower)
         expectNear(run(s, "emission_power", n), {0.5 * flux, 0.25 * flux, flux}, "background");
     }
     {
+        // An environment map: its radiance through the disk, π R² ∫ L dω,
+        // with ∫ over a texel of dω = Δφ (cos θ0 − cos θ1).
+        Scene s = lightScene(false);
+        s.environment = testEnvironment();
+        double r = 0.5 * length(s.bounds().extent());
+        std::array<double, 3> expected =
+            sumOverTexels(s.environment, [](double t0, double t1) { return std::cos(t0) - std::cos(t1); });
+        for (double& v : expected) v *= kPi * r * r;
+        expectNear(run(s, "emission_power", n), expected, "environment map");
+    }
+    {
         // All together: the selection probabilities cancel in the sum.
         Scene s = lightScene(true);
         s.lights.push_back(punctual(LIGHT_POINT, {0, 1, 0}, {0, 0, -1}, {1, 2, 3}));
@@ -169,6 +220,16 @@ TEST(Lights, NextEventEstimationGivesIrradiance)
         expectNear(run(s, "nee_irradiance", n, {0, 0.5f, 0, 0}, up), {kPi, kPi / 2, kPi / 4}, "background");
     }
     {
+        // An environment map over the upper hemisphere (its rows end at the
+        // horizon): E = ∫ L cos θ dω, over a texel Δφ (sin² θ1 − sin² θ0) / 2.
+        Scene s = lightScene(false);
+        s.environment = testEnvironment();
+        std::array<double, 3> expected = sumOverTexels(s.environment, [](double t0, double t1) {
+            return t1 <= 0.5 * kPi + 1e-9 ? 0.5 * (std::sin(t1) * std::sin(t1) - std::sin(t0) * std::sin(t0)) : 0.0;
+        });
+        expectNear(run(s, "nee_irradiance", n, {0, 0.5f, 0, 0}, up), expected, "environment map");
+    }
+    {
         // A directional light at 60° from the normal: E cos 60°.
         Scene s = lightScene(false);
         Vec3 d = normalize(Vec3(std::sin(float(kPi) / 3), -std::cos(float(kPi) / 3), 0));
@@ -187,6 +248,82 @@ TEST(Lights, NextEventEstimationGivesIrradiance)
         double expected = 100 * 0.5 * h * h; // cosines ≈ 1 and d ≈ 1 to within 1e-4
         Estimate e = run(s, "nee_irradiance", n, {0, 0, 0, 0}, up);
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(e.mean[c], expected, 1e-3 * expected) << "triangle";
+    }
+}
+
+// The environment map's sampler against its documented frame
+// (kernels/lights/environment.h): θ from +y, φ = atan2(x, −z) with the map's
+// centre along −z, turned by `rotation`. Every sampled direction must fall in
+// a texel whose radiance is the one the sampler returned, the kernels' own
+// lookup must agree with the sampler (else MIS would weigh the two
+// strategies with different densities), and the texels must be picked in
+// proportion to luminance · solid angle.
+TEST(Lights, EnvironmentMapSamplesFollowItsFrame)
+{
+    Scene scene = lightScene(false);
+    scene.environment = testEnvironment();
+    DeviceInfo info = test::devicesUnderTest()[0];
+    DeviceContext device(info);
+    Bvh bvh = buildBvh(scene.vertices);
+    LightTable table = buildLightTable(scene, bvh);
+    SceneBuffers buffers(device, scene, bvh, table);
+    cl::Program program = test::buildTestProgram(device, {test::testKernel("light_tests.cl")},
+                                                 "-DHAS_BACKGROUND -DHAS_ENVIRONMENT_MAP" +
+                                                     lightSelectOption(table.info.lightCount));
+    const int n = 1 << 18;
+    cl::Buffer out = deviceBuffer(device, size_t(n) * 32, "samples");
+    cl::Kernel k(program, "environment_samples");
+    int arg = 0;
+    k.setArg(arg++, buffers.lights);
+    k.setArg(arg++, buffers.sceneInfo);
+    k.setArg(arg++, buffers.envRadiance);
+    k.setArg(arg++, buffers.envMarginalCdf);
+    k.setArg(arg++, buffers.envConditionalCdf);
+    k.setArg(arg++, n);
+    k.setArg(arg++, out);
+    device.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(n)), cl::NDRange(64));
+    std::vector<float> v(size_t(n) * 8);
+    device.queue.enqueueReadBuffer(out, CL_TRUE, 0, v.size() * 4, v.data());
+
+    const EnvironmentMap& m = scene.environment;
+    const int w = m.image.width, h = m.image.height;
+    std::vector<double> count(size_t(w * h), 0.0);
+    int wrongTexel = 0, lookupDisagrees = 0, failed = 0;
+    for (int i = 0; i < n; ++i) {
+        const float* s = &v[8 * size_t(i)];
+        if (s[3] < 0) {
+            ++failed;
+            continue;
+        }
+        double theta = std::acos(std::clamp(double(s[1]), -1.0, 1.0));
+        double u = std::atan2(double(s[0]), -double(s[2])) / (2 * kPi) + 0.5 - m.rotation / 360.0;
+        u -= std::floor(u);
+        int x = std::min(int(u * w), w - 1), y = std::min(int(theta / kPi * h), h - 1);
+        const float* texel = &m.image.rgb[3 * size_t(y * w + x)];
+        bool same = true;
+        for (int c = 0; c < 3; ++c) same = same && std::fabs(s[4 + c] - m.strength * texel[c]) <= 1e-5f * s[4 + c];
+        wrongTexel += !same;
+        lookupDisagrees += s[7] != 1.0f;
+        count[size_t(y * w + x)] += 1;
+    }
+    // Directions within float rounding of a texel border may land in the neighbour.
+    EXPECT_EQ(failed, 0);
+    EXPECT_LT(wrongTexel, n / 10000) << "sampled radiance not that of the texel the direction lies in";
+    EXPECT_LT(lookupDisagrees, n / 10000) << "the kernels' lookup disagrees with their sampler";
+    std::printf("[ environment ] %d of %d samples in another texel, %d looked up differently\n", wrongTexel, n,
+                lookupDisagrees);
+    double total = 0;
+    std::vector<double> expected(size_t(w * h));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float* c = &m.image.rgb[3 * size_t(y * w + x)];
+            double lum = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+            expected[size_t(y * w + x)] = lum * std::sin(kPi * (y + 0.5) / h);
+            total += expected[size_t(y * w + x)];
+        }
+    for (size_t t = 0; t < expected.size(); ++t) {
+        double p = expected[t] / total, sd = std::sqrt(n * p * (1 - p));
+        EXPECT_NEAR(count[t], n * p, 5 * sd + 1) << "texel " << t;
     }
 }
 

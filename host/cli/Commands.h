@@ -23,6 +23,9 @@ struct RenderOptions {
     std::string statsFile;
     int camera = -1;        // --camera N: the file's N-th perspective camera; -1 = the first
     std::string background; // --background R,G,B (radiance); empty = the scene's
+    std::string environment;         // --environment FILE: equirectangular .exr/.hdr/.pfm
+    double environmentStrength = 1;  // --environment-strength S
+    double environmentRotation = 0;  // --environment-rotation DEGREES, about +y
     bool quiet = false;
     bool profile = false;
 };

@@ -181,6 +181,17 @@ static void validate(const RenderOptions& o)
     if (o.wavefront < 0) throw Error("--wavefront must be positive");
     if (!(o.radiusFactor > 0) || !std::isfinite(o.radiusFactor)) throw Error("--radius-factor must be positive");
     if (!(o.radiusAlpha > 0 && o.radiusAlpha <= 1)) throw Error("--radius-alpha must be in (0, 1]");
+    if (!(o.environmentStrength >= 0) || !std::isfinite(o.environmentStrength))
+        throw Error("--environment-strength must be a finite number >= 0");
+    if (!std::isfinite(o.environmentRotation)) throw Error("--environment-rotation must be a finite number");
+    if (!o.environment.empty()) {
+        if (!o.background.empty()) throw Error("--environment and --background both replace the background: give one");
+        std::string ext = fs::path(o.environment).extension().string();
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (ext != ".exr" && ext != ".hdr" && ext != ".pfm")
+            throw Error(o.environment + ": an environment map must be linear radiance in .exr, .hdr or .pfm");
+        if (!fs::is_regular_file(o.environment)) throw Error(o.environment + ": no such file");
+    }
 }
 
 // The image size: both given, one given (the other from the camera's aspect
@@ -214,7 +225,23 @@ static void chooseCameraAndLight(const RenderOptions& o, const std::string& scen
                         (scene.cameras.size() == 1 ? "" : "s") + " (numbered from 0)");
         scene.camera = scene.cameras[size_t(o.camera)];
     }
-    if (!o.background.empty()) scene.background = parseColor("--background", o.background);
+    if (!o.background.empty()) {
+        scene.background = parseColor("--background", o.background);
+        scene.environment = EnvironmentMap{}; // replaces the scene's map too
+    }
+    if (!o.environment.empty()) {
+        scene.environment.path = o.environment;
+        scene.environment.image = readImage(o.environment);
+        scene.environment.strength = float(o.environmentStrength);
+        scene.environment.rotation = float(o.environmentRotation);
+        if (!scene.hasLight()) {
+            std::fprintf(stderr,
+                         "wavevcm: warning: %s emits nothing (black, or --environment-strength 0) and %s has no "
+                         "other light: the image is black\n",
+                         o.environment.c_str(), scenePath.c_str());
+            return;
+        }
+    }
     if (scene.hasLight()) return;
     if (!o.background.empty()) {
         std::fprintf(stderr, "wavevcm: warning: %s has no light and --background is 0: the image is black\n",

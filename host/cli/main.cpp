@@ -38,6 +38,14 @@ int main(int argc, char** argv)
         ->check(CLI::NonNegativeNumber);
     render->add_option("--background", r.background,
                        "uniform background radiance R,G,B (replaces the scene's; 0,0,0 for none)");
+    render->add_option("--environment", r.environment,
+                       "equirectangular environment map (.exr, .hdr or .pfm, linear radiance) as the background, "
+                       "importance-sampled; replaces the scene's background");
+    render->add_option("--environment-strength", r.environmentStrength, "radiance scale of --environment")
+        ->capture_default_str();
+    render->add_option("--environment-rotation", r.environmentRotation,
+                       "turn of --environment about the up axis (+y), degrees")
+        ->capture_default_str();
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
     render->add_flag("--profile", r.profile, "print the device time spent in each kernel");
     render->add_option("--reference", r.reference, "reference image for --error-log (same resolution)");

@@ -8,7 +8,7 @@ static float luminance(const float c[3]) { return 0.2126f * c[0] + 0.7152f * c[1
 
 // Emitted power (luminance) used for selection. Infinite lights count the
 // power that crosses the scene's bounding disk (pbrt-v4's Phi for them).
-static double power(const Light& l, double sceneRadius)
+static double power(const Light& l, double sceneRadius, const EnvironmentLight& environment)
 {
     const double pi = M_PI;
     double lum = luminance(l.emission);
@@ -17,7 +17,8 @@ static double power(const Light& l, double sceneRadius)
     case LIGHT_SPOT: return 2 * pi * lum * (1 - 0.5 * (l.cosInnerCone + l.cosOuterCone));
     case LIGHT_DIRECTIONAL: return lum * pi * sceneRadius * sceneRadius;
     case LIGHT_TRIANGLE: return pi * lum * l.area;
-    case LIGHT_BACKGROUND: return 4 * pi * pi * sceneRadius * sceneRadius * lum;
+    case LIGHT_BACKGROUND: // emission scales the map's radiance, or is the uniform radiance
+        return pi * sceneRadius * sceneRadius * lum * (environment.width > 0 ? environment.luminanceIntegral : 4 * pi);
     }
     return 0;
 }
@@ -55,13 +56,22 @@ LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
         Light l{};
         l.type = LIGHT_BACKGROUND;
         for (int c = 0; c < 3; ++c) l.emission[c] = scene.background[c];
+        if (!scene.environment.empty()) {
+            t.environment = buildEnvironmentLight(scene.environment);
+            for (float& e : l.emission) e = scene.environment.strength;
+            t.info.envWidth = t.environment.width;
+            t.info.envHeight = t.environment.height;
+            float turn = scene.environment.rotation / 360.0f;
+            t.info.envRotation = turn - std::floor(turn);
+            t.info.envPdfScale = t.environment.pdfScale;
+        }
         t.info.backgroundLight = int(t.lights.size());
         t.lights.push_back(l);
     }
 
     std::vector<double> powers;
     for (const Light& l : t.lights) {
-        powers.push_back(power(l, radius));
+        powers.push_back(power(l, radius, t.environment));
         t.totalPower += powers.back();
     }
     t.cdf.assign(1, 0.0f);

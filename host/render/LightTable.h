@@ -5,6 +5,7 @@
 
 #include "../bvh/Bvh.h"
 #include "../scene/Scene.h"
+#include "EnvironmentLight.h"
 
 #include <vector>
 
@@ -16,6 +17,7 @@ struct LightTable {
     std::vector<int> triangleLight;    // per BVH-ordered triangle: its light index, or -1
     SceneInfo info{};
     double totalPower = 0;
+    EnvironmentLight environment; // the background's map, if it has one (width 0 otherwise)
 };
 
 LightTable buildLightTable(const Scene& scene, const Bvh& bvh);

@@ -73,6 +73,14 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     lightCdf = upload(lightTable.cdf, "the light distribution");
     triangleLight = upload(lightTable.triangleLight, "the triangle lights");
     sceneInfo = upload(info, "the scene constants");
+    const EnvironmentLight& env = lightTable.environment;
+    auto orPlaceholder = [](std::vector<float> v, size_t n) { // OpenCL buffers cannot be empty
+        if (v.empty()) v.assign(n, 0.0f);
+        return v;
+    };
+    envRadiance = upload(orPlaceholder(env.radiance, 4), "the environment map");
+    envMarginalCdf = upload(orPlaceholder(env.marginalCdf, 1), "the environment map's distribution");
+    envConditionalCdf = upload(orPlaceholder(env.conditionalCdf, 1), "the environment map's distribution");
     if (bytes > device.info.globalMemory)
         throw Error("the scene needs " + megabytes(bytes) + " but " + device.info.name + " has " +
                     megabytes(device.info.globalMemory));
@@ -89,6 +97,9 @@ void SceneBuffers::bind(KernelBuffers& b) const
     b.lights = lights;
     b.lightCdf = lightCdf;
     b.triangleLight = triangleLight;
+    b.envRadiance = envRadiance;
+    b.envMarginalCdf = envMarginalCdf;
+    b.envConditionalCdf = envConditionalCdf;
     b.scene = sceneInfo;
 }
 

@@ -20,6 +20,9 @@ struct SceneBuffers {
     cl::Buffer lights;           // Light[] (at least one element)
     cl::Buffer lightCdf;         // float[lights + 1]
     cl::Buffer triangleLight;    // int[triangles]: light index or -1
+    cl::Buffer envRadiance;      // float4 per environment-map texel (1 element without a map)
+    cl::Buffer envMarginalCdf;   // float[height + 1]
+    cl::Buffer envConditionalCdf; // float[height · (width + 1)]
     cl::Buffer sceneInfo;        // SceneInfo
     size_t bytes = 0;
 

@@ -110,6 +110,7 @@ private:
     void addCamera(int cameraIndex, const Mat4& world);
     void addLight(const tinygltf::Value& ext, const Mat4& world, const std::string& nodeName);
     void loadBackground();
+    void loadEnvironment(const tinygltf::Value& environment);
 
     // Reads `count` elements of an accessor as floats (VEC3) or indices.
     std::vector<Vec3> readVec3(int accessorIndex, const std::string& what);
@@ -663,12 +664,46 @@ void Loader::addLight(const tinygltf::Value& ext, const Mat4& world, const std::
     scene_.lights.push_back(out);
 }
 
+// extras.environment = {"uri": map beside the file, "strength": s, "rotation": degrees}
+// (render's --environment options), the map read here so that a bad one is
+// reported with the scene.
+void Loader::loadEnvironment(const tinygltf::Value& e)
+{
+    if (!e.IsObject() || !e.Has("uri") || !e.Get("uri").IsString())
+        fail("scene extras.environment must be an object with a \"uri\" string");
+    auto number = [&](const char* key, double fallback) {
+        if (!e.Has(key)) return fallback;
+        const tinygltf::Value& v = e.Get(key);
+        if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()))
+            fail(std::string("scene extras.environment.") + key + " must be a finite number");
+        return v.GetNumberAsDouble();
+    };
+    double strength = number("strength", 1.0), rotation = number("rotation", 0.0);
+    if (strength < 0) fail("scene extras.environment.strength must be >= 0");
+    std::string uri = e.Get("uri").Get<std::string>();
+    std::filesystem::path file = std::filesystem::path(path_).parent_path() / uri;
+    std::string ext = file.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".exr" && ext != ".hdr" && ext != ".pfm")
+        fail("scene extras.environment: " + uri + " must be linear radiance in .exr, .hdr or .pfm");
+    scene_.environment.path = file.string();
+    try {
+        scene_.environment.image = readImage(file.string());
+    } catch (const Error& e) {
+        fail(std::string("scene extras.environment: ") + e.what());
+    }
+    scene_.environment.strength = float(strength);
+    scene_.environment.rotation = float(rotation);
+}
+
 void Loader::loadBackground()
 {
     if (model_.scenes.empty()) return;
     int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
     const tinygltf::Value& extras = model_.scenes[sceneIndex].extras;
-    if (!extras.IsObject() || !extras.Has("background")) return;
+    if (!extras.IsObject()) return;
+    if (extras.Has("environment")) loadEnvironment(extras.Get("environment"));
+    if (!extras.Has("background")) return;
     const tinygltf::Value& bg = extras.Get("background");
     if (!bg.IsArray() || bg.ArrayLen() != 3) fail("scene extras.background must be [r, g, b]");
     for (int c = 0; c < 3; ++c) {

@@ -27,13 +27,17 @@ SceneFeatures Scene::features() const
         f.spotLights |= l.type == LIGHT_SPOT;
         f.directionalLights |= l.type == LIGHT_DIRECTIONAL;
     }
-    f.background = background.x > 0 || background.y > 0 || background.z > 0;
+    f.environmentMap = !environment.empty();
+    f.background = f.environmentMap || background.x > 0 || background.y > 0 || background.z > 0;
     return f;
 }
 
 bool Scene::hasLight() const
 {
     if (!lights.empty() || std::max({background.x, background.y, background.z}) > 0) return true;
+    if (!environment.empty() && environment.strength > 0 &&
+        *std::max_element(environment.image.rgb.begin(), environment.image.rgb.end()) > 0)
+        return true;
     for (int m : triangleMaterial)
         if (std::max({materials[m].emission[0], materials[m].emission[1], materials[m].emission[2]}) > 0) return true;
     return false;
@@ -48,6 +52,7 @@ std::string SceneFeatures::buildOptions() const
     if (directionalLights) o += " -DHAS_DIRECTIONAL_LIGHTS";
     if (emissiveTriangles) o += " -DHAS_EMISSIVE_TRIANGLES";
     if (background) o += " -DHAS_BACKGROUND";
+    if (environmentMap) o += " -DHAS_ENVIRONMENT_MAP";
     return o;
 }
 

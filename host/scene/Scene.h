@@ -4,6 +4,7 @@
 
 #include "../../kernels/interface/shared_types.h"
 #include "../Vec3.h"
+#include "../image/Image.h"
 
 #include <string>
 #include <vector>
@@ -16,9 +17,19 @@ static_assert(sizeof(TrianglePacket) == 40 * TRIANGLE_PACKET_WIDTH, "TrianglePac
 static_assert(sizeof(Camera) == 64, "Camera layout");
 static_assert(sizeof(Material) == 80, "Material layout");
 static_assert(sizeof(Light) == 64, "Light layout");
-static_assert(sizeof(SceneInfo) == 32, "SceneInfo layout");
+static_assert(sizeof(SceneInfo) == 48, "SceneInfo layout");
 static_assert(sizeof(LightVertex) == 80, "LightVertex layout");
 static_assert(sizeof(MergeVertex) == 64, "MergeVertex layout");
+
+// An equirectangular environment map (--environment): the background's
+// radiance by direction, in the frame kernels/lights/environment.h describes.
+struct EnvironmentMap {
+    std::string path;
+    Image image;          // linear RGB; row 0 looks straight up (+y)
+    float strength = 1;   // radiance scale
+    float rotation = 0;   // turn about +y, degrees
+    bool empty() const { return image.rgb.empty(); }
+};
 
 // A camera as the glTF file describes it, before an image size is chosen.
 struct CameraView {
@@ -36,6 +47,7 @@ struct SceneFeatures {
     bool pointLights = false, spotLights = false, directionalLights = false;
     bool emissiveTriangles = false;
     bool background = false;
+    bool environmentMap = false; // the background's radiance comes from a map
 
     std::string buildOptions() const;
 };
@@ -51,6 +63,7 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Light> lights; // punctual lights only; see render/LightTable.h
     Vec3 background{0, 0, 0}; // uniform background radiance (scene extras.background)
+    EnvironmentMap environment; // replaces the uniform background when it has texels
     CameraView camera;         // the one rendered: the file's first perspective camera by default
     bool cameraFromFile = false;
     std::vector<CameraView> cameras; // every perspective camera of the file, in node order (--camera N)

@@ -146,6 +146,12 @@ typedef struct SceneInfo {
     float radius;
     int lightCount;
     int backgroundLight; /* index in the light table, -1 if none */
+    /* The environment map (kernels/lights/environment.h), if the background
+     * has one: texels, its turn about +y (a fraction of a full turn), and
+     * the factor that makes luminance · sin θ a density over (u, v). */
+    int envWidth, envHeight;
+    float envRotation;
+    float envPdfScale;
     int pad[2];
 } SceneInfo;
 

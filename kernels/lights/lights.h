@@ -12,6 +12,7 @@
 #include "core/vec3.h"
 #include "interface/inline.h"
 #include "interface/shared_types.h"
+#include "lights/environment.h"
 
 typedef struct LightSample {
     vec3 direction; /* unit, from the shading point towards the light */
@@ -65,8 +66,43 @@ INLINE float triangle_light_pdf(float pmf, float area, float dist, float cosLigh
     return cosLight > 0.0f ? pmf * dist * dist / (cosLight * area) : 0.0f;
 }
 
-/* Density of sampling direction `d` from the background light (uniform sphere). */
-INLINE float background_light_pdf(float pmf) { return pmf * (0.25f * INV_PI_F); }
+/* The background's radiance along d, and the density (solid angle, with
+ * selection probability pmf) with which light sampling picks d: the
+ * environment map's, or the uniform sphere's. */
+INLINE vec3 background_radiance(__global const Light* bg, __constant const SceneInfo* scene, const Environment* env,
+                                vec3 d, float* pdfW)
+{
+    vec3 emission = load3(bg->emission);
+#ifdef HAS_ENVIRONMENT_MAP
+    float envPdf;
+    vec3 radiance = v3_mul(emission, env_radiance(env, scene, d, &envPdf));
+    *pdfW = bg->pmf * envPdf;
+    return radiance;
+#else
+    *pdfW = bg->pmf * (0.25f * INV_PI_F);
+    return emission;
+#endif
+}
+
+/* A direction towards the background: its radiance, and the density with
+ * selection probability. False where the density vanishes. */
+INLINE bool sample_background(__global const Light* bg, __constant const SceneInfo* scene, const Environment* env,
+                              float u1, float u2, vec3* d, vec3* radiance, float* pdfW)
+{
+    *radiance = load3(bg->emission);
+#ifdef HAS_ENVIRONMENT_MAP
+    vec3 texel;
+    float envPdf;
+    bool ok = env_sample(env, scene, u1, u2, d, &texel, &envPdf);
+    *radiance = v3_mul(*radiance, texel);
+    *pdfW = bg->pmf * envPdf;
+    return ok;
+#else
+    *d = sample_uniform_sphere(u1, u2);
+    *pdfW = bg->pmf * (0.25f * INV_PI_F);
+    return true;
+#endif
+}
 
 #ifdef HAS_EMISSIVE_TRIANGLES
 /* A uniform point on an emissive triangle, its error bound and the
@@ -86,8 +122,8 @@ INLINE vec3 sample_triangle_point(__global const float4* triVertices, int triang
  * direction on it with u.y, u.z, seen from p. The light types are an
  * if-chain, not a switch: LLVM's loop vectorizer refuses loops with a switch. */
 INLINE bool sample_light(__global const Light* lights, __global const float* cdf,
-                         __global const float4* triVertices, __constant const SceneInfo* scene, vec3 p, Uniform4 u,
-                         LightSample* s)
+                         __global const float4* triVertices, __constant const SceneInfo* scene, const Environment* env,
+                         vec3 p, Uniform4 u, LightSample* s)
 {
     int lightCount = scene->lightCount;
     if (lightCount == 0)
@@ -145,11 +181,10 @@ INLINE bool sample_light(__global const Light* lights, __global const float* cdf
 #endif
 #ifdef HAS_BACKGROUND
     if (type == LIGHT_BACKGROUND) {
-        s->direction = sample_uniform_sphere(u.y, u.z);
-        s->pdf = background_light_pdf(l->pmf);
+        bool ok = sample_background(l, scene, env, u.y, u.z, &s->direction, &s->radiance, &s->pdf);
         s->directPdfW = s->pdf;
         s->emissionPdfW = s->pdf / (PI_F * scene->radius * scene->radius);
-        return true;
+        return ok;
     }
 #endif
     return false;
@@ -178,8 +213,8 @@ typedef struct EmissionSample {
  * background) start their rays on a disk of the bounding sphere's radius,
  * facing the scene, just outside the sphere. */
 INLINE bool sample_emission(__global const Light* lights, __global const float* cdf,
-                            __global const float4* triVertices, __constant const SceneInfo* scene, Uniform4 u,
-                            Uniform4 v, EmissionSample* e)
+                            __global const float4* triVertices, __constant const SceneInfo* scene,
+                            const Environment* env, Uniform4 u, Uniform4 v, EmissionSample* e)
 {
     int lightCount = scene->lightCount;
     if (lightCount == 0)
@@ -230,22 +265,25 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
 #if defined(HAS_DIRECTIONAL_LIGHTS) || defined(HAS_BACKGROUND)
     if (type == LIGHT_DIRECTIONAL || type == LIGHT_BACKGROUND) {
         e->finite = false;
+        bool ok = true;
         if (type == LIGHT_DIRECTIONAL) {
             e->direction = load3(l->direction);
             e->pdfDirection = 1.0f;
             e->deltaDirection = true;
             e->directPdf = l->pmf;
         } else {
-            e->direction = v3_neg(sample_uniform_sphere(v.x, v.y));
-            e->pdfDirection = 0.25f * INV_PI_F;
-            e->directPdf = background_light_pdf(l->pmf);
+            /* the light travels against the direction towards the background */
+            vec3 towards;
+            ok = sample_background(l, scene, env, v.x, v.y, &towards, &e->radiance, &e->directPdf);
+            e->direction = v3_neg(towards);
+            e->pdfDirection = l->pmf > 0.0f ? e->directPdf / l->pmf : 0.0f;
         }
         Frame f = frame_from_normal(e->direction);
         vec2 d = sample_disk(u.y, u.z);
         e->position = v3_add(v3_add(v3_sub(centre, v3_scale(e->direction, radius)), v3_scale(f.s, d.x * radius)),
                              v3_scale(f.t, d.y * radius));
         e->pdfPosition = l->pmf / (PI_F * radius * radius);
-        return true;
+        return ok;
     }
 #endif
     return false;
@@ -260,12 +298,12 @@ INLINE void triangle_hit_pdfs(float pmf, float area, float cosLight, float* dire
     *emissionPdfW = *directPdfA * cosLight * INV_PI_F;
 }
 
-/* The same for a ray escaping to the background (solid angle for the direct
- * density; the emission density adds the disk the ray would start from). */
-INLINE void background_hit_pdfs(float pmf, float sceneRadius, float* directPdfW, float* emissionPdfW)
+/* The same for a ray escaping to the background, given the density
+ * (solid angle, with selection) of light sampling picking its direction:
+ * the emission density adds the disk the ray would start from. */
+INLINE void background_hit_pdfs(float directPdfW, float sceneRadius, float* emissionPdfW)
 {
-    *directPdfW = background_light_pdf(pmf);
-    *emissionPdfW = *directPdfW / (PI_F * sceneRadius * sceneRadius);
+    *emissionPdfW = directPdfW / (PI_F * sceneRadius * sceneRadius);
 }
 
 /* Whether a connection between surface points p and q leaves each on a side

@@ -17,24 +17,26 @@ __kernel void escaped(RENDER_KERNEL_PARAMS)
 #if defined(HAS_BACKGROUND) && !defined(EYE_LIGHT)
     if (slot >= 0 && params.cameraPaths && scene->backgroundLight >= 0) {
         __global const Light* bg = &lights[scene->backgroundLight];
+        Environment env = {envRadiance, envMarginalCdf, envConditionalCdf};
+        float lightPdf; /* of light sampling picking this direction */
+        vec3 radiance = background_radiance(bg, scene, &env, load_vec3(rayDirections, slot), &lightPdf);
         float w = 1.0f; /* seen directly, or through delta scattering only */
 #if defined(VERTEX_MERGING_ONLY)
         w = (pathFlags[slot] & PATH_SPECULAR) ? 1.0f : 0.0f; /* merging covers the rest */
 #elif defined(BIDIRECTIONAL)
         if (hit_depth(pathDepth, slot) > 1) { /* not the camera ray */
             PathMis mis = load_mis(pathMis, slot);
-            float directPdfW, emissionPdfW;
-            background_hit_pdfs(bg->pmf, scene->radius, &directPdfW, &emissionPdfW);
-            w = mis_weight_emission_hit(mis, directPdfW, emissionPdfW);
+            float emissionPdfW;
+            background_hit_pdfs(lightPdf, scene->radius, &emissionPdfW);
+            w = mis_weight_emission_hit(mis, lightPdf, emissionPdfW);
         }
 #else
         float prevPdf = pathPrevPdf[slot];
-        float lightPdf = background_light_pdf(bg->pmf);
         if (prevPdf > 0.0f)
             w = prevPdf * prevPdf / (prevPdf * prevPdf + lightPdf * lightPdf);
 #endif
-        add_radiance(pixelRadiance, pathPixel[slot],
-                     v3_mul(v3_scale(load_vec3(pathThroughput, slot), w), load3(bg->emission)), &rejected);
+        add_radiance(pixelRadiance, pathPixel[slot], v3_mul(v3_scale(load_vec3(pathThroughput, slot), w), radiance),
+                     &rejected);
     }
 #endif
     queue_push4(queueItems, queueCounters, params.capacity,

@@ -6,8 +6,9 @@
  * of one emission sample (0 if none was produced). Its mean is the total
  * power of all lights. */
 __kernel void emission_power(__global const Light* lights, __global const float* cdf,
-                             __global const float4* triVertices, __constant const SceneInfo* scene, int n,
-                             __global float4* estimates)
+                             __global const float4* triVertices, __constant const SceneInfo* scene,
+                             __global const float4* envRadiance, __global const float* envMarginalCdf,
+                             __global const float* envConditionalCdf, int n, __global float4* estimates)
 {
     int i = get_global_id(0);
     if (i >= n)
@@ -15,7 +16,8 @@ __kernel void emission_power(__global const Light* lights, __global const float*
     Uniform4 u = rng_uniform4(1u, 0u, (uint)i, 0u, 0u), v = rng_uniform4(1u, 0u, (uint)i, 0u, 1u);
     EmissionSample e;
     vec3 estimate = v3s(0.0f);
-    if (sample_emission(lights, cdf, triVertices, scene, u, v, &e))
+    Environment env = {envRadiance, envMarginalCdf, envConditionalCdf};
+    if (sample_emission(lights, cdf, triVertices, scene, &env, u, v, &e))
         estimate = v3_scale(e.radiance, e.cosAtLight / (e.pdfPosition * e.pdfDirection));
     estimates[i] = (float4)(to_float3(estimate), 0.0f);
 }
@@ -23,8 +25,9 @@ __kernel void emission_power(__global const Light* lights, __global const float*
 /* Per sample: the NEE estimate of irradiance at point p with normal n,
  * radiance · max(0, cos) / pdf. Its mean is the irradiance from all lights. */
 __kernel void nee_irradiance(__global const Light* lights, __global const float* cdf,
-                             __global const float4* triVertices, __constant const SceneInfo* scene, float4 p,
-                             float4 n, int count,
+                             __global const float4* triVertices, __constant const SceneInfo* scene,
+                             __global const float4* envRadiance, __global const float* envMarginalCdf,
+                             __global const float* envConditionalCdf, float4 p, float4 n, int count,
                              __global float4* estimates)
 {
     int i = get_global_id(0);
@@ -33,7 +36,30 @@ __kernel void nee_irradiance(__global const Light* lights, __global const float*
     Uniform4 u = rng_uniform4(2u, 0u, (uint)i, 0u, 0u);
     LightSample s;
     vec3 estimate = v3s(0.0f);
-    if (sample_light(lights, cdf, triVertices, scene, from_float3(p.xyz), u, &s))
+    Environment env = {envRadiance, envMarginalCdf, envConditionalCdf};
+    if (sample_light(lights, cdf, triVertices, scene, &env, from_float3(p.xyz), u, &s))
         estimate = v3_scale(s.radiance, fmax(0.0f, v3_dot(s.direction, from_float3(n.xyz))) / s.pdf);
     estimates[i] = (float4)(to_float3(estimate), 0.0f);
+}
+
+/* Per sample: a direction towards the background by importance (d, pdf in
+ * samples[2i]; radiance and whether looking d up gives the same radiance
+ * and density in samples[2i + 1].w). */
+__kernel void environment_samples(__global const Light* lights, __constant const SceneInfo* scene,
+                                  __global const float4* envRadiance, __global const float* envMarginalCdf,
+                                  __global const float* envConditionalCdf, int n, __global float4* samples)
+{
+    int i = get_global_id(0);
+    if (i >= n)
+        return;
+    Environment env = {envRadiance, envMarginalCdf, envConditionalCdf};
+    __global const Light* bg = &lights[scene->backgroundLight];
+    Uniform4 u = rng_uniform4(3u, 0u, (uint)i, 0u, 0u);
+    vec3 d, radiance;
+    float pdf = 0.0f, lookupPdf;
+    bool ok = sample_background(bg, scene, &env, u.x, u.y, &d, &radiance, &pdf);
+    vec3 lookup = background_radiance(bg, scene, &env, d, &lookupPdf);
+    bool same = v3_is_zero(v3_sub(lookup, radiance)) && fabs(lookupPdf - pdf) <= 1e-4f * pdf;
+    samples[2 * i] = (float4)(to_float3(d), ok ? pdf : -1.0f);
+    samples[2 * i + 1] = (float4)(to_float3(radiance), same ? 1.0f : 0.0f);
 }
