@@ -783,6 +783,57 @@ TEST_F(GltfLoader, MalformedBackgroundThrows)
     }
 }
 
+// KHR_mesh_quantization: positions as unsigned shorts (as values, placed by
+// the node's scale and translation, as quantizing exporters do) and normals
+// as normalized signed bytes give the float triangle's positions and normals;
+// normalized unsigned bytes and signed shorts as values work too, and a
+// 32-bit integer VEC3 is an error.
+TEST_F(GltfLoader, QuantizedPositionsAndNormals)
+{
+    GltfBuilder b;
+    // kTriangle scaled by 1/1000 around (2, 3, 4): stored as ((v − t) / s).
+    // Elements 4-byte aligned, as the extension requires: a stride of 8 and 4 bytes.
+    std::vector<uint16_t> pos = {0, 0, 0, 0, 1000, 0, 0, 0, 0, 1000, 0};
+    std::vector<int8_t> nrm = {0, 0, 127, 0, 0, 0, 127, 0, 0, 0, 127};
+    int p = b.addAccessor(b.addView(pos.data(), pos.size() * 2, 8), kUnsignedShort, "VEC3", 3);
+    int n = b.addAccessor(b.addView(nrm.data(), nrm.size(), 4), 5120, "VEC3", 2);
+    b.j["accessors"][n]["count"] = 3;
+    b.j["accessors"][n]["normalized"] = true;
+    b.j["extensionsUsed"] = {"KHR_mesh_quantization"};
+    b.j["extensionsRequired"] = {"KHR_mesh_quantization"};
+    int material = b.addMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
+    b.addNode({{"mesh", b.addMesh({primitive(p, n, -1, material)})},
+               {"scale", {0.001, 0.001, 0.001}},
+               {"translation", {2, 3, 4}}});
+    Scene s = load(b, "quantized");
+    ASSERT_EQ(s.vertices.size(), 3u);
+    for (size_t k = 0; k < 3; ++k) {
+        Vec3 expected = Vec3(2, 3, 4) + kTriangle[k] * 1.0f;
+        EXPECT_TRUE(near(s.vertices[k] + Vec3(float(s.origin[0]), float(s.origin[1]), float(s.origin[2])), expected,
+                         1e-5f))
+            << k;
+        EXPECT_TRUE(near(s.normals.at(k), {0, 0, 1}, 1e-6f)) << k;
+    }
+
+    GltfBuilder c;
+    std::vector<uint8_t> unorm = {0, 0, 0, 0, 255, 0, 0, 0, 0, 255, 0}; // kTriangle, stride 4
+    std::vector<int16_t> values = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}; // stride 8
+    int p2 = c.addAccessor(c.addView(unorm.data(), unorm.size(), 4), kUnsignedByte, "VEC3", 3);
+    c.j["accessors"][p2]["normalized"] = true;
+    int n2 = c.addAccessor(c.addView(values.data(), values.size() * 2, 8), 5122, "VEC3", 3);
+    int m2 = c.addMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
+    c.addNode({{"mesh", c.addMesh({primitive(p2, n2, -1, m2)})}});
+    Scene t = load(c, "quantized2");
+    for (size_t k = 0; k < 3; ++k) {
+        EXPECT_TRUE(near(t.vertices[k], kTriangle[k], 1e-6f)) << k;
+        EXPECT_TRUE(near(t.normals.at(k), {0, 0, 1}, 1e-6f)) << k;
+    }
+
+    GltfBuilder d = oneTriangle();
+    d.j["accessors"][0]["componentType"] = kUnsignedInt;
+    expectLoadError(d.writeGltf(dir_, "quantized32"), "8- or 16-bit integers");
+}
+
 // A 4 × 2 map beside the glTF file, as extras.environment names it: read with
 // the scene (rows from the top, texel values kept), its strength and rotation
 // taken; a missing map, a non-linear format or a bad number is an error

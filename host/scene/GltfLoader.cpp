@@ -204,7 +204,7 @@ const std::set<std::string>& supportedExtensions()
 {
     static const std::set<std::string> s{
         "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_transmission",
-        "KHR_materials_ior", "KHR_materials_volume", "KHR_lights_punctual"};
+        "KHR_materials_ior", "KHR_materials_volume", "KHR_lights_punctual", "KHR_mesh_quantization"};
     return s;
 }
 
@@ -453,12 +453,49 @@ std::vector<Vec3> Loader::readVec3(int accessorIndex, const std::string& what)
     if (accessorIndex < 0 || size_t(accessorIndex) >= model_.accessors.size())
         fail(what + ": accessor index " + std::to_string(accessorIndex) + " out of range");
     const tinygltf::Accessor& a = model_.accessors[accessorIndex];
-    if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-        fail(what + ": expected a VEC3 of floats");
+    if (a.type != TINYGLTF_TYPE_VEC3) fail(what + ": expected a VEC3");
+    // Floats, or (KHR_mesh_quantization) 8- and 16-bit integers, as values
+    // or normalized: unsigned c / (2^n − 1), signed max(c / (2^(n−1) − 1), −1).
+    size_t size;
+    switch (a.componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: size = 4; break;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: size = 1; break;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: size = 2; break;
+    default: fail(what + ": VEC3 components must be floats, or 8- or 16-bit integers (KHR_mesh_quantization)");
+    }
     size_t stride;
-    const unsigned char* data = accessorData(a, 12, &stride, what);
+    const unsigned char* data = accessorData(a, 3 * size, &stride, what);
+    auto component = [&](const unsigned char* p) -> float {
+        switch (a.componentType) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+            float f;
+            std::memcpy(&f, p, 4);
+            return f;
+        }
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+            float c = float(int8_t(p[0]));
+            return a.normalized ? std::max(c / 127.0f, -1.0f) : c;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return a.normalized ? p[0] / 255.0f : float(p[0]);
+        case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            int16_t c;
+            std::memcpy(&c, p, 2);
+            return a.normalized ? std::max(float(c) / 32767.0f, -1.0f) : float(c);
+        }
+        default: {
+            uint16_t c;
+            std::memcpy(&c, p, 2);
+            return a.normalized ? float(c) / 65535.0f : float(c);
+        }
+        }
+    };
     std::vector<Vec3> out(a.count);
-    for (size_t i = 0; i < a.count; ++i) std::memcpy(&out[i], data + i * stride, 12);
+    for (size_t i = 0; i < a.count; ++i) {
+        const unsigned char* e = data + i * stride;
+        out[i] = Vec3(component(e), component(e + size), component(e + 2 * size));
+    }
     return out;
 }
 
