@@ -2,10 +2,14 @@
 
 #include "../Error.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -138,6 +142,34 @@ Image readImage(const std::string& path)
     for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
         for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = pixels[p * channels + std::min(c, channels - 1)];
     return image;
+}
+
+Image decodeImage(const unsigned char* data, size_t size, const std::string& name)
+{
+    // OpenImageIO picks the reader by file name: name the format the bytes start with.
+    const char* format = nullptr;
+    if (size >= 8 && std::memcmp(data, "\x89PNG\r\n\x1a\n", 8) == 0) format = "image.png";
+    if (size >= 3 && data[0] == 0xFF && data[1] == 0xD8 && data[2] == 0xFF) format = "image.jpg";
+    if (!format) throw Error(name + ": not a PNG or JPEG image");
+    OIIO::Filesystem::IOMemReader memory(const_cast<unsigned char*>(data), size);
+    auto input = OIIO::ImageInput::open(format, nullptr, &memory);
+    if (!input) throw Error(name + ": cannot decode image: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = input->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw Error(name + ": image has no pixels");
+    std::vector<float> pixels(size_t(spec.width) * spec.height * spec.nchannels);
+    if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw Error(name + ": cannot decode image: " + input->geterror());
+    Image image(spec.width, spec.height);
+    int channels = spec.nchannels;
+    for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
+        for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = pixels[p * channels + (channels >= 3 ? c : 0)]; // grey(+alpha)
+    return image;
+}
+
+void srgbToLinear(Image& image)
+{
+    for (float& v : image.rgb)
+        v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }
 
 ImageDifference compareImages(const Image& test, const Image& reference)

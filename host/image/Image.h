@@ -33,6 +33,14 @@ void checkWritable(const std::string& path);
 // Any format OpenImageIO reads; the first three channels (grey is replicated).
 Image readImage(const std::string& path);
 
+// A PNG or JPEG file's bytes held in memory (a glTF image), decoded: its
+// values as stored (sRGB-encoded for colour), in [0, 1]. `name` names it in
+// errors.
+Image decodeImage(const unsigned char* data, size_t size, const std::string& name);
+
+// The sRGB transfer function's inverse, per channel (textures' colours).
+void srgbToLinear(Image& image);
+
 struct ImageDifference {
     double rmse = 0;      // sqrt(mean over pixels and channels of (t − r)²)
     double relMse = 0;    // mean of (t − r)² / (r² + 0.01), per channel

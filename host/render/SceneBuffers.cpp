@@ -3,6 +3,7 @@
 #include "../Error.h"
 
 #include <array>
+#include <cstdint>
 
 namespace wv {
 
@@ -42,9 +43,12 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     size_t count = bvh.triangleOrder.size();
     std::vector<std::array<float, 4>> vertices(3 * count), normals(scene.normals.empty() ? 1 : 3 * count);
     std::vector<int> triMaterial(count);
+    std::vector<float> uvs(scene.uvs.empty() ? 2 : 6 * count, 0.0f); // BVH order, like the vertices
     for (size_t i = 0; i < count; ++i) {
         uint32_t t = bvh.triangleOrder[i];
         triMaterial[i] = scene.triangleMaterial[t];
+        if (!scene.uvs.empty())
+            for (int k = 0; k < 6; ++k) uvs[6 * i + size_t(k)] = scene.uvs[6 * size_t(t) + size_t(k)];
         for (int k = 0; k < 3; ++k) {
             const Vec3& v = scene.vertices[3 * t + k];
             vertices[3 * i + k] = {v.x, v.y, v.z, 0.0f};
@@ -73,6 +77,26 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     lightCdf = upload(lightTable.cdf, "the light distribution");
     triangleLight = upload(lightTable.triangleLight, "the triangle lights");
     sceneInfo = upload(info, "the scene constants");
+    // The textures: every texel in one float4 buffer, a table of where each starts.
+    std::vector<std::array<float, 4>> texels;
+    std::vector<TextureInfo> textureTable;
+    for (const Texture& t : scene.textures) {
+        TextureInfo info{};
+        info.offset = int(texels.size());
+        info.width = t.image.width;
+        info.height = t.image.height;
+        info.wrapS = t.wrapS;
+        info.wrapT = t.wrapT;
+        textureTable.push_back(info);
+        for (size_t p = 0; p < t.image.rgb.size() / 3; ++p)
+            texels.push_back({t.image.rgb[3 * p], t.image.rgb[3 * p + 1], t.image.rgb[3 * p + 2], 0.0f});
+    }
+    if (texels.size() > size_t(INT32_MAX)) throw Error("the textures have more than 2^31 texels");
+    if (texels.empty()) texels.push_back({0, 0, 0, 0}); // OpenCL buffers cannot be empty
+    if (textureTable.empty()) textureTable.push_back(TextureInfo{});
+    textureTexels = upload(texels, "the textures");
+    textures = upload(textureTable, "the texture table");
+    triUVs = upload(uvs, "the texture coordinates");
     const EnvironmentLight& env = lightTable.environment;
     auto orPlaceholder = [](std::vector<float> v, size_t n) { // OpenCL buffers cannot be empty
         if (v.empty()) v.assign(n, 0.0f);
@@ -97,6 +121,9 @@ void SceneBuffers::bind(KernelBuffers& b) const
     b.lights = lights;
     b.lightCdf = lightCdf;
     b.triangleLight = triangleLight;
+    b.textureTexels = textureTexels;
+    b.textures = textures;
+    b.triUVs = triUVs;
     b.envRadiance = envRadiance;
     b.envMarginalCdf = envMarginalCdf;
     b.envConditionalCdf = envConditionalCdf;

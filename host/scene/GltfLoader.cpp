@@ -86,6 +86,15 @@ Mat4 localTransform(const tinygltf::Node& node)
     return multiply(t, multiply(r, s));
 }
 
+// The images of a file, decoded by OpenImageIO as tinygltf hands over
+// their bytes (from a file, a data URI or a bufferView), by image index; an
+// image that does not decode is recorded, not fatal: a material that uses it
+// keeps its factor, with a warning.
+struct DecodedImages {
+    std::map<int, Image> images;
+    std::map<int, std::string> errors;
+};
+
 class Loader {
 public:
     Loader(const std::string& path, Scene& scene) : path_(path), scene_(scene) {}
@@ -112,8 +121,13 @@ private:
     void loadBackground();
     void loadEnvironment(const tinygltf::Value& environment);
 
+    // 1 + the scene texture of glTF texture `index` as a base colour, 0
+    // (with a warning) when it cannot be used.
+    int baseColorTexture(const tinygltf::TextureInfo& info, const std::string& material);
+
     // Reads `count` elements of an accessor as floats (VEC3) or indices.
     std::vector<Vec3> readVec3(int accessorIndex, const std::string& what);
+    std::vector<float> readTexCoords(int accessorIndex, const std::string& what); // u, v per element
     std::vector<uint32_t> readIndices(int accessorIndex);
     const unsigned char* accessorData(const tinygltf::Accessor& a, size_t elementSize,
                                       size_t* stride, const std::string& what);
@@ -124,13 +138,20 @@ private:
     std::set<std::string> warned_;
     std::set<std::string> skippedModes_; // points and lines, for the error when nothing else is left
     int defaultMaterial_ = -1;
+    DecodedImages images_;
+    std::map<int, int> sceneTexture_; // glTF texture index → 1 + index in scene_.textures
 };
 
-// Images are not decoded yet (textures are reported and their factors used);
-// this callback keeps tinygltf from decoding or failing on them.
-bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-               const unsigned char*, int, void*)
+bool decodeGltfImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                     const unsigned char* bytes, int size, void* user)
 {
+    auto* decoded = static_cast<DecodedImages*>(user);
+    std::string name = "image " + std::to_string(index) + (image->name.empty() ? "" : " '" + image->name + "'");
+    try {
+        decoded->images[index] = decodeImage(bytes, size_t(std::max(size, 0)), name);
+    } catch (const Error& e) {
+        decoded->errors[index] = e.what();
+    }
     return true;
 }
 
@@ -166,7 +187,7 @@ void Loader::load()
     if (!fs::is_regular_file(path_, ec)) throw Error(path_ + ": not a regular file");
 
     tinygltf::TinyGLTF gltf;
-    gltf.SetImageLoader(skipImage, nullptr);
+    gltf.SetImageLoader(decodeGltfImage, &images_);
     std::string err, warn;
     std::string ext = fs::path(path_).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -192,6 +213,7 @@ void Loader::load()
     checkExtensions();
     loadMaterials();
     visitNodes();
+    if (scene_.textures.empty()) scene_.uvs = {}; // only textures read them
     loadBackground();
     if (scene_.triangleCount() == 0) {
         std::string skipped;
@@ -237,6 +259,49 @@ void Loader::loadMaterials()
 
 float clamp01(double x) { return float(std::min(1.0, std::max(0.0, x))); }
 
+int Loader::baseColorTexture(const tinygltf::TextureInfo& info, const std::string& material)
+{
+    std::string what = material + ": base-colour texture " + std::to_string(info.index);
+    if (size_t(info.index) >= model_.textures.size()) fail(what + " out of range");
+    if (info.texCoord != 0) {
+        warnOnce(what + " uses TEXCOORD_" + std::to_string(info.texCoord) +
+                 "; only TEXCOORD_0 is supported, so baseColorFactor is used");
+        return 0;
+    }
+    if (extension(info.extensions, "KHR_texture_transform"))
+        warnOnce(what + ": KHR_texture_transform is not supported and is ignored");
+    auto known = sceneTexture_.find(info.index);
+    if (known != sceneTexture_.end()) return known->second;
+    const tinygltf::Texture& t = model_.textures[size_t(info.index)];
+    int result = 0;
+    auto image = images_.images.find(t.source);
+    if (t.source < 0 || size_t(t.source) >= model_.images.size()) {
+        warnOnce(what + " has no image; baseColorFactor is used");
+    } else if (image == images_.images.end()) {
+        auto error = images_.errors.find(t.source);
+        warnOnce(what + ": " + (error != images_.errors.end() ? error->second : "image " + std::to_string(t.source) +
+                                    " could not be read") + "; baseColorFactor is used");
+    } else {
+        Texture texture;
+        texture.name = what;
+        texture.image = image->second;
+        srgbToLinear(texture.image); // base colour is sRGB-encoded (glTF 2.0 §3.9.2)
+        if (t.sampler >= 0 && size_t(t.sampler) < model_.samplers.size()) {
+            auto wrap = [](int mode) {
+                return mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE     ? WRAP_CLAMP
+                       : mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? WRAP_MIRROR
+                                                                       : WRAP_REPEAT;
+            };
+            texture.wrapS = wrap(model_.samplers[size_t(t.sampler)].wrapS);
+            texture.wrapT = wrap(model_.samplers[size_t(t.sampler)].wrapT);
+        }
+        scene_.textures.push_back(std::move(texture));
+        result = int(scene_.textures.size());
+    }
+    sceneTexture_[info.index] = result;
+    return result;
+}
+
 Material Loader::convertMaterial(const tinygltf::Material& m, int index)
 {
     std::string name = "material " + std::to_string(index) + (m.name.empty() ? "" : " '" + m.name + "'");
@@ -253,8 +318,7 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     out.ior = 1.5f;
     out.thinWalled = 1;
 
-    if (pbr.baseColorTexture.index >= 0)
-        warnOnce(name + ": base-color textures are not supported yet; baseColorFactor is used");
+    if (pbr.baseColorTexture.index >= 0) out.baseColorTexture = baseColorTexture(pbr.baseColorTexture, name);
     if (pbr.metallicRoughnessTexture.index >= 0 || m.normalTexture.index >= 0 ||
         m.emissiveTexture.index >= 0 || m.occlusionTexture.index >= 0)
         warnOnce(name + ": metallic-roughness, normal, emissive and occlusion textures are ignored");
@@ -499,6 +563,40 @@ std::vector<Vec3> Loader::readVec3(int accessorIndex, const std::string& what)
     return out;
 }
 
+std::vector<float> Loader::readTexCoords(int accessorIndex, const std::string& what)
+{
+    if (accessorIndex < 0 || size_t(accessorIndex) >= model_.accessors.size())
+        fail(what + ": accessor index " + std::to_string(accessorIndex) + " out of range");
+    const tinygltf::Accessor& a = model_.accessors[accessorIndex];
+    if (a.type != TINYGLTF_TYPE_VEC2) fail(what + ": expected a VEC2");
+    bool unorm = a.normalized && (a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                  a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !unorm)
+        fail(what + ": texture coordinates must be floats or normalized unsigned bytes or shorts");
+    size_t size = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ? 4
+                  : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2 : 1;
+    size_t stride;
+    const unsigned char* data = accessorData(a, 2 * size, &stride, what);
+    std::vector<float> out(2 * a.count);
+    for (size_t i = 0; i < a.count; ++i)
+        for (size_t c = 0; c < 2; ++c) {
+            const unsigned char* p = data + i * stride + c * size;
+            float v;
+            if (size == 4) {
+                std::memcpy(&v, p, 4);
+            } else if (size == 2) {
+                uint16_t u;
+                std::memcpy(&u, p, 2);
+                v = float(u) / 65535.0f;
+            } else {
+                v = float(p[0]) / 255.0f;
+            }
+            if (!std::isfinite(v)) fail(what + ": TEXCOORD_0 contains NaN or Inf");
+            out[2 * i + c] = v;
+        }
+    return out;
+}
+
 std::vector<uint32_t> Loader::readIndices(int accessorIndex)
 {
     const std::string what = "indices";
@@ -600,6 +698,12 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             normals = readVec3(nrm->second, what + " NORMAL");
             if (normals.size() != positions.size()) fail(what + ": NORMAL and POSITION counts differ");
         }
+        std::vector<float> uvs; // TEXCOORD_0, for textures
+        auto uv = prim.attributes.find("TEXCOORD_0");
+        if (uv != prim.attributes.end()) {
+            uvs = readTexCoords(uv->second, what + " TEXCOORD_0");
+            if (uvs.size() != 2 * positions.size()) fail(what + ": TEXCOORD_0 and POSITION counts differ");
+        }
         std::vector<uint32_t> indices;
         if (prim.indices >= 0) {
             indices = readIndices(prim.indices);
@@ -623,6 +727,9 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             material = defaultMaterial_;
         }
 
+        if (uvs.empty() && scene_.materials[size_t(material)].baseColorTexture > 0)
+            warnOnce(what + ": a textured material without TEXCOORD_0; the texel at (0, 0) is used");
+
         // Normals exist for every triangle once any primitive has them.
         bool hadNormals = !scene_.normals.empty();
         if (!normals.empty() && !hadNormals && !scene_.vertices.empty()) {
@@ -637,6 +744,9 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             for (int k = 0; k < 3; ++k) v[k] = transformPoint(world, positions[indices[i + corner[k]]]);
             for (int k = 0; k < 3; ++k) scene_.vertices.push_back(v[k]);
             scene_.triangleMaterial.push_back(material);
+            for (int k = 0; k < 3; ++k) // (0, 0) without TEXCOORD_0; dropped unless the scene has textures
+                for (int c = 0; c < 2; ++c)
+                    scene_.uvs.push_back(uvs.empty() ? 0.0f : uvs[2 * size_t(indices[i + corner[k]]) + size_t(c)]);
             if (!wantNormals) continue;
             Vec3 geometric = cross(v[1] - v[0], v[2] - v[0]);
             for (int k = 0; k < 3; ++k) {

@@ -28,6 +28,7 @@ SceneFeatures Scene::features() const
         f.directionalLights |= l.type == LIGHT_DIRECTIONAL;
     }
     f.environmentMap = !environment.empty();
+    f.textures = !textures.empty();
     f.background = f.environmentMap || background.x > 0 || background.y > 0 || background.z > 0;
     return f;
 }
@@ -53,6 +54,7 @@ std::string SceneFeatures::buildOptions() const
     if (emissiveTriangles) o += " -DHAS_EMISSIVE_TRIANGLES";
     if (background) o += " -DHAS_BACKGROUND";
     if (environmentMap) o += " -DHAS_ENVIRONMENT_MAP";
+    if (textures) o += " -DHAS_TEXTURES";
     return o;
 }
 

@@ -15,7 +15,8 @@ namespace wv {
 static_assert(sizeof(BvhNode) == 7 * 4 * BVH_WIDTH, "BvhNode layout");
 static_assert(sizeof(TrianglePacket) == 40 * TRIANGLE_PACKET_WIDTH, "TrianglePacket layout");
 static_assert(sizeof(Camera) == 64, "Camera layout");
-static_assert(sizeof(Material) == 80, "Material layout");
+static_assert(sizeof(Material) == 96, "Material layout");
+static_assert(sizeof(TextureInfo) == 32, "TextureInfo layout");
 static_assert(sizeof(Light) == 64, "Light layout");
 static_assert(sizeof(SceneInfo) == 48, "SceneInfo layout");
 static_assert(sizeof(LightVertex) == 80, "LightVertex layout");
@@ -29,6 +30,13 @@ struct EnvironmentMap {
     float strength = 1;   // radiance scale
     float rotation = 0;   // turn about +y, degrees
     bool empty() const { return image.rgb.empty(); }
+};
+
+// A texture: linear RGB (sRGB-decoded from the file), row 0 at v = 0.
+struct Texture {
+    std::string name;
+    Image image;
+    int wrapS = WRAP_REPEAT, wrapT = WRAP_REPEAT;
 };
 
 // A camera as the glTF file describes it, before an image size is chosen.
@@ -48,6 +56,7 @@ struct SceneFeatures {
     bool emissiveTriangles = false;
     bool background = false;
     bool environmentMap = false; // the background's radiance comes from a map
+    bool textures = false;       // some material has a base-colour texture
 
     std::string buildOptions() const;
 };
@@ -64,6 +73,10 @@ struct Scene {
     std::vector<Light> lights; // punctual lights only; see render/LightTable.h
     Vec3 background{0, 0, 0}; // uniform background radiance (scene extras.background)
     EnvironmentMap environment; // replaces the uniform background when it has texels
+    std::vector<Texture> textures; // base-colour textures (Material::baseColorTexture)
+    // TEXCOORD_0 of every triangle's corners (u, v per corner: 6 floats per
+    // triangle) when the scene has textures, else empty.
+    std::vector<float> uvs;
     CameraView camera;         // the one rendered: the file's first perspective camera by default
     bool cameraFromFile = false;
     std::vector<CameraView> cameras; // every perspective camera of the file, in node order (--camera N)

@@ -32,6 +32,9 @@ namespace wv {
     X(__global, Light, lights, 0)            /* the light table (at least one entry) */                    \
     X(__global, float, lightCdf, 0)          /* light selection by power, lights + 1 entries */            \
     X(__global, int, triangleLight, 0)       /* light index of an emissive triangle, else -1 */            \
+    X(__global, float4, textureTexels, 0)    /* every texture's texels (materials/texture.h) */            \
+    X(__global, TextureInfo, textures, 0)    /* where each texture's texels start */                       \
+    X(__global, float2, triUVs, 0)           /* TEXCOORD_0 per triangle corner, with textures, else 1 */   \
     X(__global, float4, envRadiance, 0)      /* environment map texels (lights/environment.h), else 1 */   \
     X(__global, float, envMarginalCdf, 0)    /* over its rows, height + 1 entries */                       \
     X(__global, float, envConditionalCdf, 0) /* over each row's texels, height × (width + 1) */            \

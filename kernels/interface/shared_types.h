@@ -80,7 +80,23 @@ typedef struct Material {
     int thinWalled;      /* 1: transmission without refraction (no KHR_materials_volume) */
     float attenuationColor[3];
     float attenuationDistance; /* KHR_materials_volume; 0 = no absorption */
+    int baseColorTexture;      /* 1 + its index in the texture table; 0: none (baseColor alone) */
+    int pad[3];
 } Material;
+
+/* How a texture repeats outside [0, 1] (glTF sampler wrapS / wrapT). */
+#define WRAP_REPEAT 0
+#define WRAP_CLAMP 1
+#define WRAP_MIRROR 2
+
+/* A texture of the scene: width × height linear RGB texels, row 0 at v = 0,
+ * stored as float4 from texel `offset` of one buffer (kernels/materials/texture.h). */
+typedef struct TextureInfo {
+    int offset;
+    int width, height;
+    int wrapS, wrapT;
+    int pad[3];
+} TextureInfo;
 
 #define LIGHT_POINT 0
 #define LIGHT_SPOT 1

@@ -78,8 +78,9 @@ INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
 }
 
 /* The BSDF at a hit seen from local direction wo (wo.z > 0 after the caller
- * flipped the frame); frontSide: wo is on the side the normal points to. */
-INLINE Bsdf make_bsdf(__global const Material* m, vec3 wo, bool frontSide)
+ * flipped the frame); frontSide: wo is on the side the normal points to;
+ * `base` the base colour there (materials/texture.h: material_base_color). */
+INLINE Bsdf make_bsdf(__global const Material* m, vec3 base, vec3 wo, bool frontSide)
 {
     Bsdf b;
     b.lobes = m->lobes & SCENE_LOBES;
@@ -88,7 +89,6 @@ INLINE Bsdf make_bsdf(__global const Material* m, vec3 wo, bool frontSide)
     /* Opaque and thin-walled surfaces are two-sided: their Fresnel always
      * sees air → material. A refracting solid sees the inverse from inside. */
     b.eta = (b.refracts && !frontSide) ? 1.0f / m->ior : m->ior;
-    vec3 base = load3(m->baseColor);
     float dielectric = 1.0f - m->metallic;
     b.metallic = m->metallic;
     b.metalF0 = base;

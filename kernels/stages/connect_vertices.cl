@@ -11,6 +11,7 @@
 #include "geometry/bvh_traversal.h"
 #include "geometry/surface.h"
 #include "lights/lights.h"
+#include "materials/surface_bsdf.h"
 #include "transport/camera_vertex.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
@@ -45,7 +46,8 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
         if (!path_fits(depth + lv->pathLength + 1, params.maxPathLength))
             continue; /* vertices go from the deepest back: shallower ones may still fit */
         vec3 toLight = load3(lv->toLight);
-        SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, v2(lv->b1, lv->b2), toLight);
+        vec2 lightBary = v2(lv->b1, lv->b2);
+        SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, lightBary, toLight);
         if (!connection_resolved(cv.hit.p, cv.hit.pError, cv.hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF))
             continue;
         vec3 d = v3_sub(lightHit.p, cv.hit.p);
@@ -61,7 +63,7 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
         float cameraFwd, cameraRev, lightFwd, lightRev;
         vec3 fCamera = bsdf_eval(&cv.bsdf, cv.woL, dL, false, &cameraFwd, &cameraRev);
         vec3 toLightL = to_local(&lightHit.frame, toLight);
-        Bsdf lightBsdf = make_bsdf(&materials[triMaterials[lv->triangle]], toLightL, lightHit.frontSide);
+        Bsdf lightBsdf = surface_bsdf(&b, lv->triangle, lightBary, toLightL, lightHit.frontSide);
         vec3 fLight = v3_scale(bsdf_eval(&lightBsdf, toLightL, backL, true, &lightFwd, &lightRev),
                                adjoint_shading_correction(&lightHit, toLight, v3_neg(d)));
         if (!(max_component(fCamera) > 0.0f && max_component(fLight) > 0.0f))

@@ -17,6 +17,7 @@
 #include "interface/inline.h"
 #include "lights/lights.h"
 #include "materials/bsdf.h"
+#include "materials/surface_bsdf.h"
 #include "transport/continue_path.h"
 #include "transport/path_state.h"
 
@@ -30,7 +31,8 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
 {
     int tri = b->hitTriangle[slot];
     vec3 wo = v3_neg(load_vec3(b->rayDirections, slot));
-    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, load_vec2(b->hitBary, slot), wo);
+    vec2 bary = load_vec2(b->hitBary, slot);
+    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, bary, wo);
     int depth = hit_depth(b->pathDepth, slot);
     int pixel = b->pathPixel[slot];
     vec3 beta = load_vec3(b->pathThroughput, slot);
@@ -51,7 +53,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
 #endif
 
     vec3 woL = to_local(&hit.frame, wo);
-    Bsdf bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], woL, hit.frontSide);
+    Bsdf bsdf = surface_bsdf(b, tri, bary, woL, hit.frontSide);
     bool alive = path_fits(depth + 1, params->maxPathLength) && !bsdf_is_black(&bsdf);
 
     if (alive && bsdf_has_nondelta(&bsdf)) {

@@ -19,6 +19,7 @@
 #include "interface/inline.h"
 #include "lights/lights.h"
 #include "materials/bsdf.h"
+#include "materials/surface_bsdf.h"
 #include "transport/continue_path.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
@@ -34,7 +35,8 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
     CameraHitResult r = {0, 0};
     int tri = b->hitTriangle[slot];
     vec3 wo = v3_neg(load_vec3(b->rayDirections, slot));
-    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, load_vec2(b->hitBary, slot), wo);
+    vec2 bary = load_vec2(b->hitBary, slot);
+    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, bary, wo);
     vec3 woL = to_local(&hit.frame, wo);
     int depth = hit_depth(b->pathDepth, slot);
     int pixel = b->pathPixel[slot];
@@ -63,7 +65,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 #endif
 
 #ifndef LIGHT_TRACING
-    Bsdf bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], woL, hit.frontSide);
+    Bsdf bsdf = surface_bsdf(b, tri, bary, woL, hit.frontSide);
     bool alive = path_fits(depth + 1, params->maxPathLength) && !bsdf_is_black(&bsdf);
     float cont = continuation_probability(&bsdf);
 #ifdef PPM

@@ -20,6 +20,7 @@
 #include "lights/camera.h"
 #include "lights/lights.h"
 #include "materials/bsdf.h"
+#include "materials/surface_bsdf.h"
 #include "transport/continue_path.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
@@ -47,7 +48,7 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     int lightPath = b->pathPixel[slot];
     PathMis mis = load_mis(b->pathMis, slot);
     mis_at_hit(&mis, b->hitT[slot], fabs(wLightL.z), depth > 1 || (b->pathFlags[slot] & PATH_FINITE_LIGHT));
-    Bsdf bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], wLightL, hit.frontSide);
+    Bsdf bsdf = surface_bsdf(b, tri, bary, wLightL, hit.frontSide);
     if (bsdf_is_black(&bsdf))
         return r;
     float cont = continuation_probability(&bsdf);

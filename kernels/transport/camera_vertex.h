@@ -8,6 +8,7 @@
 #include "interface/inline.h"
 #include "interface/kernel_interface.h"
 #include "materials/bsdf.h"
+#include "materials/surface_bsdf.h"
 #include "mis.h"
 
 typedef struct CameraVertex {
@@ -23,9 +24,10 @@ INLINE CameraVertex camera_vertex(const RenderBuffers* b, int slot)
     CameraVertex v;
     int tri = b->hitTriangle[slot];
     vec3 wo = v3_neg(load_vec3(b->rayDirections, slot));
-    v.hit = surface_hit(b->triVertices, b->triNormals, tri, load_vec2(b->hitBary, slot), wo);
+    vec2 bary = load_vec2(b->hitBary, slot);
+    v.hit = surface_hit(b->triVertices, b->triNormals, tri, bary, wo);
     v.woL = to_local(&v.hit.frame, wo);
-    v.bsdf = make_bsdf(&b->materials[b->triMaterials[tri]], v.woL, v.hit.frontSide);
+    v.bsdf = surface_bsdf(b, tri, bary, v.woL, v.hit.frontSide);
     v.mis = load_mis(b->pathMis, slot);
     mis_at_hit(&v.mis, b->hitT[slot], fabs(v.woL.z), true);
     v.continuation = continuation_probability(&v.bsdf);

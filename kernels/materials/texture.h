@@ -1,0 +1,55 @@
+/* Base-colour textures (host/scene/Scene.h: Texture; TextureInfo in
+ * interface/shared_types.h): bilinear filtering between texel centres at
+ * ((i + 1/2) / width, (j + 1/2) / height), row 0 at v = 0 as in glTF, with
+ * the sampler's wrap mode per axis. */
+#ifndef WAVEVCM_TEXTURE_H
+#define WAVEVCM_TEXTURE_H
+
+#include "core/vec3.h"
+#include "interface/inline.h"
+#include "interface/shared_types.h"
+
+/* Texel index i of a row or column of n under a glTF wrap mode: repeat,
+ * clamp to the edge, or repeat mirrored every other time. */
+INLINE int wrap_texel(int i, int n, int mode)
+{
+    int period = mode == WRAP_MIRROR ? 2 * n : n;
+    int m = i % period;
+    m = m < 0 ? m + period : m;
+    m = mode == WRAP_MIRROR && m >= n ? period - 1 - m : m;
+    return mode == WRAP_CLAMP ? clamp(i, 0, n - 1) : m;
+}
+
+INLINE vec3 texture_bilinear(__global const float4* texels, __global const TextureInfo* t, float u, float v)
+{
+    /* Far outside [0, 1] only the wrap matters; keep the texel indices in int range. */
+    float x = clamp(u, -1e6f, 1e6f) * (float)t->width - 0.5f, y = clamp(v, -1e6f, 1e6f) * (float)t->height - 0.5f;
+    float fx = floor(x), fy = floor(y);
+    float ax = x - fx, ay = y - fy;
+    int x0 = wrap_texel((int)fx, t->width, t->wrapS), x1 = wrap_texel((int)fx + 1, t->width, t->wrapS);
+    int y0 = wrap_texel((int)fy, t->height, t->wrapT), y1 = wrap_texel((int)fy + 1, t->height, t->wrapT);
+    int row0 = t->offset + y0 * t->width, row1 = t->offset + y1 * t->width;
+    vec3 top = v3_add(v3_scale(load_vec3(texels, row0 + x0), 1.0f - ax), v3_scale(load_vec3(texels, row0 + x1), ax));
+    vec3 bottom = v3_add(v3_scale(load_vec3(texels, row1 + x0), 1.0f - ax), v3_scale(load_vec3(texels, row1 + x1), ax));
+    return v3_add(v3_scale(top, 1.0f - ay), v3_scale(bottom, ay));
+}
+
+/* The base colour of material m on triangle `tri` at barycentrics `bary`:
+ * baseColorFactor, times its texture at the point's TEXCOORD_0. */
+INLINE vec3 material_base_color(__global const Material* m, __global const float4* texels,
+                                __global const TextureInfo* textures, __global const float2* triUVs, int tri,
+                                vec2 bary)
+{
+    vec3 color = load3(m->baseColor);
+#ifdef HAS_TEXTURES
+    if (m->baseColorTexture > 0) {
+        vec2 t0 = load_vec2(triUVs, 3 * tri), t1 = load_vec2(triUVs, 3 * tri + 1), t2 = load_vec2(triUVs, 3 * tri + 2);
+        float b0 = 1.0f - bary.x - bary.y;
+        float u = b0 * t0.x + bary.x * t1.x + bary.y * t2.x, v = b0 * t0.y + bary.x * t1.y + bary.y * t2.y;
+        color = v3_mul(color, texture_bilinear(texels, &textures[m->baseColorTexture - 1], u, v));
+    }
+#endif
+    return color;
+}
+
+#endif

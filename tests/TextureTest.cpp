@@ -1,0 +1,166 @@
+// Base-colour textures: a glTF file with a PNG texture loads (sRGB decoded
+// to linear, sampler wrap modes, TEXCOORD_0 per triangle corner), and a
+// textured Lambert quad that fills the image under a uniform background of
+// radiance L renders each texel's colour × L where the clamped bilinear
+// lookup is constant (the image's corner blocks), in the right corners.
+#include "Error.h"
+#include "TestDevices.h"
+#include "TestRendering.h"
+#include "scene/GltfLoader.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+namespace wv {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+// A 2 × 2 texture, linear RGB, row 0 first: red, green / blue, grey 0.5.
+const float kTexels[4][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5f, 0.5f, 0.5f}};
+
+class Textures : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        dir_ = fs::temp_directory_path() / ("wavevcm_textures_" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+        Image texture(2, 2);
+        for (int t = 0; t < 4; ++t)
+            for (int c = 0; c < 3; ++c) texture.rgb[3 * size_t(t) + size_t(c)] = kTexels[t][c];
+        writeImage((dir_ / "texture.png").string(), texture); // 8-bit, sRGB-encoded
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    // The quad [-1, 1]² in z = 0 facing +z, its texture's (0, 0) at the top
+    // left (−1, 1); a camera at z = 3 whose image is exactly the quad.
+    std::string writeQuad(const std::string& name, json textureInfo, const json& sampler, bool uvs = true)
+    {
+        float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+        float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+        uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+        std::vector<unsigned char> bin(48 + 32 + 12);
+        std::memcpy(bin.data(), pos, 48);
+        std::memcpy(bin.data() + 48, uv, 32);
+        std::memcpy(bin.data() + 80, idx, 12);
+        std::ofstream(dir_ / (name + ".bin"), std::ios::binary).write(reinterpret_cast<const char*>(bin.data()),
+                                                                    std::streamsize(bin.size()));
+        json attributes = {{"POSITION", 0}};
+        if (uvs) attributes["TEXCOORD_0"] = 1;
+        json g = {
+            {"asset", {{"version", "2.0"}}},
+            {"scene", 0},
+            {"scenes", {{{"nodes", {0, 1}}}}},
+            {"nodes", {{{"mesh", 0}}, {{"camera", 0}, {"translation", {0, 0, 3}}}}},
+            {"cameras", {{{"type", "perspective"},
+                          {"perspective", {{"yfov", 2 * std::atan(1.0 / 3)}, {"aspectRatio", 1}, {"znear", 0.01}}}}}},
+            {"meshes", {{{"primitives", {{{"attributes", attributes}, {"indices", 2}, {"material", 0}}}}}}},
+            // Pure Lambert (no specular layer): under a uniform background it reflects base colour × L.
+            {"extensionsUsed", {"KHR_materials_specular"}},
+            {"materials",
+             {{{"pbrMetallicRoughness", {{"baseColorTexture", textureInfo}, {"metallicFactor", 0.0}}},
+               {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}}}},
+            {"textures", {{{"source", 0}, {"sampler", 0}}}},
+            {"samplers", {sampler}},
+            {"images", {{{"uri", "texture.png"}}}},
+            {"buffers", {{{"byteLength", bin.size()}, {"uri", name + ".bin"}}}},
+            {"bufferViews",
+             {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
+              {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 32}},
+              {{"buffer", 0}, {"byteOffset", 80}, {"byteLength", 12}}}},
+            {"accessors",
+             {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}, {"min", {-1, -1, 0}},
+               {"max", {1, 1, 0}}},
+              {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
+              {{"bufferView", 2}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}}};
+        fs::path path = dir_ / (name + ".gltf");
+        std::ofstream(path) << g.dump();
+        return path.string();
+    }
+
+    fs::path dir_;
+};
+
+bool anyWarningContains(const Scene& s, const std::string& text)
+{
+    for (const std::string& w : s.warnings)
+        if (w.find(text) != std::string::npos) return true;
+    return false;
+}
+
+TEST_F(Textures, LoadDecodedWithWrapModesAndCoordinates)
+{
+    Scene s = loadGltf(writeQuad("quad", {{"index", 0}}, {{"wrapS", 33071}, {"wrapT", 33648}}));
+    ASSERT_EQ(s.textures.size(), 1u);
+    const Texture& t = s.textures[0];
+    ASSERT_EQ(t.image.width, 2);
+    ASSERT_EQ(t.image.height, 2);
+    for (int i = 0; i < 4; ++i)
+        for (int c = 0; c < 3; ++c) // 8-bit sRGB: within a code of 0.5 after decoding
+            EXPECT_NEAR(t.image.rgb[3 * size_t(i) + size_t(c)], kTexels[i][c], 3e-3) << i << " " << c;
+    EXPECT_EQ(t.wrapS, WRAP_CLAMP);
+    EXPECT_EQ(t.wrapT, WRAP_MIRROR);
+    EXPECT_EQ(s.materials.at(0).baseColorTexture, 1);
+    EXPECT_TRUE(s.features().textures);
+    ASSERT_EQ(s.uvs.size(), 6 * s.triangleCount());
+    EXPECT_FLOAT_EQ(s.uvs[0], 0.0f); // corner (−1, −1) of the first triangle: uv (0, 1)
+    EXPECT_FLOAT_EQ(s.uvs[1], 1.0f);
+
+    // TEXCOORD_1 is not read: the factor alone, with a warning.
+    Scene second = loadGltf(writeQuad("texcoord1", {{"index", 0}, {"texCoord", 1}}, json::object()));
+    EXPECT_TRUE(second.textures.empty());
+    EXPECT_EQ(second.materials.at(0).baseColorTexture, 0);
+    EXPECT_TRUE(anyWarningContains(second, "only TEXCOORD_0"));
+
+    // An image that is not there: the factor alone, with a warning naming it.
+    fs::rename(dir_ / "texture.png", dir_ / "moved.png");
+    Scene missing = loadGltf(writeQuad("missing", {{"index", 0}}, json::object()));
+    EXPECT_TRUE(missing.textures.empty());
+    EXPECT_TRUE(anyWarningContains(missing, "baseColorFactor is used"));
+    fs::rename(dir_ / "moved.png", dir_ / "texture.png");
+
+    // A textured material without TEXCOORD_0: a warning.
+    EXPECT_TRUE(anyWarningContains(loadGltf(writeQuad("nouv", {{"index", 0}}, json::object(), false)),
+                                   "without TEXCOORD_0"));
+}
+
+TEST_F(Textures, TexelsRenderWhereTheyLie)
+{
+    Scene s = loadGltf(writeQuad("render", {{"index", 0}}, {{"wrapS", 33071}, {"wrapT", 33071}}));
+    const float L = 0.8f;
+    s.background = {L, L, L};
+    const int size = 32, block = 8; // u < 1/4 or > 3/4 (and v): the clamped lookup is one texel there
+    DeviceInfo device = test::devicesUnderTest()[0];
+    for (Algorithm a : {Algorithm::PathTracing, Algorithm::VertexConnectionMerging}) {
+        SCOPED_TRACE(algorithmName(a));
+        test::Render r = test::render(device, s, a, size, size, 32, 5);
+        EXPECT_EQ(r.nonFinite, 0u);
+        for (int corner = 0; corner < 4; ++corner) {
+            int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
+            for (int c = 0; c < 3; ++c) {
+                double sum = 0, sq = 0;
+                for (int y = y0; y < y0 + block; ++y)
+                    for (int x = x0; x < x0 + block; ++x) {
+                        double v = r.image.rgb[3 * (size_t(y) * size + size_t(x)) + size_t(c)];
+                        sum += v;
+                        sq += v * v;
+                    }
+                int n = block * block;
+                double mean = sum / n, se = std::sqrt(std::max(0.0, sq / n - mean * mean) / n);
+                double expected = L * s.textures[0].image.rgb[3 * size_t(corner) + size_t(c)];
+                // 5 standard errors of the block's mean, and float rounding
+                EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
+            }
+        }
+    }
+}
+
+} // namespace
+} // namespace wv
