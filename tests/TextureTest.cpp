@@ -36,12 +36,28 @@ protected:
         for (int t = 0; t < 4; ++t)
             for (int c = 0; c < 3; ++c) texture.rgb[3 * size_t(t) + size_t(c)] = kTexels[t][c];
         writeImage((dir_ / "texture.png").string(), texture); // 8-bit, sRGB-encoded
+        // Metallic-roughness data (0 and 1 survive the sRGB encoding exactly):
+        // roughness (G) 1 everywhere, metallic (B) 0 in the left column, 1 in the right.
+        Image mr(2, 2);
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x) {
+                mr.rgb[3 * size_t(2 * y + x) + 1] = 1;
+                mr.rgb[3 * size_t(2 * y + x) + 2] = float(x);
+            }
+        writeImage((dir_ / "mr.png").string(), mr);
     }
     void TearDown() override { fs::remove_all(dir_); }
 
     // The quad [-1, 1]² in z = 0 facing +z, its texture's (0, 0) at the top
     // left (−1, 1); a camera at z = 3 whose image is exactly the quad.
     std::string writeQuad(const std::string& name, json textureInfo, const json& sampler, bool uvs = true)
+    {
+        return writeQuadWith(name, {{"baseColorTexture", textureInfo}, {"metallicFactor", 0.0}}, sampler, uvs);
+    }
+
+    // The same with the material's pbrMetallicRoughness given whole; texture
+    // 0 is texture.png, texture 1 mr.png.
+    std::string writeQuadWith(const std::string& name, const json& pbr, const json& sampler, bool uvs = true)
     {
         float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
         float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
@@ -65,11 +81,11 @@ protected:
             // Pure Lambert (no specular layer): under a uniform background it reflects base colour × L.
             {"extensionsUsed", {"KHR_materials_specular"}},
             {"materials",
-             {{{"pbrMetallicRoughness", {{"baseColorTexture", textureInfo}, {"metallicFactor", 0.0}}},
+             {{{"pbrMetallicRoughness", pbr},
                {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}}}},
-            {"textures", {{{"source", 0}, {"sampler", 0}}}},
+            {"textures", {{{"source", 0}, {"sampler", 0}}, {{"source", 1}, {"sampler", 0}}}},
             {"samplers", {sampler}},
-            {"images", {{{"uri", "texture.png"}}}},
+            {"images", {{{"uri", "texture.png"}}, {{"uri", "mr.png"}}}},
             {"buffers", {{{"byteLength", bin.size()}, {"uri", name + ".bin"}}}},
             {"bufferViews",
              {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
@@ -123,7 +139,7 @@ TEST_F(Textures, LoadDecodedWithWrapModesAndCoordinates)
     fs::rename(dir_ / "texture.png", dir_ / "moved.png");
     Scene missing = loadGltf(writeQuad("missing", {{"index", 0}}, json::object()));
     EXPECT_TRUE(missing.textures.empty());
-    EXPECT_TRUE(anyWarningContains(missing, "baseColorFactor is used"));
+    EXPECT_TRUE(anyWarningContains(missing, "the material's factor is used"));
     fs::rename(dir_ / "moved.png", dir_ / "texture.png");
 
     // A textured material without TEXCOORD_0: a warning.
@@ -159,6 +175,94 @@ TEST_F(Textures, TexelsRenderWhereTheyLie)
                 EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
             }
         }
+    }
+}
+
+// KHR_texture_transform (uv' = offset + R(rotation) · (scale ∘ uv), R
+// counter-clockwise, as the extension's matrix): a quarter turn with offset
+// (1, 0) maps the quad's corners (u, v) to (1 − v, u), so the texels move a
+// corner round: top left shows texel (1, 0) green, top right (1, 1) grey,
+// bottom left (0, 0) red, bottom right (0, 1) blue. A turn the other way or
+// no transform puts other colours there.
+TEST_F(Textures, TextureTransformMovesTheTexels)
+{
+    json turn = {{"index", 0},
+                 {"extensions", {{"KHR_texture_transform", {{"rotation", M_PI / 2}, {"offset", {1.0, 0.0}}}}}}};
+    Scene s = loadGltf(writeQuad("transform", turn, {{"wrapS", 33071}, {"wrapT", 33071}}));
+    ASSERT_EQ(s.textures.size(), 1u);
+    const std::array<float, 6>& m = s.textures[0].uvTransform;
+    EXPECT_NEAR(m[0], 0, 1e-6);
+    EXPECT_NEAR(m[1], -1, 1e-6);
+    EXPECT_NEAR(m[2], 1, 1e-6);
+    EXPECT_NEAR(m[3], 1, 1e-6);
+    EXPECT_NEAR(m[4], 0, 1e-6);
+    EXPECT_NEAR(m[5], 0, 1e-6);
+
+    const float L = 0.8f;
+    s.background = {L, L, L};
+    const int size = 32, block = 8;
+    test::Render r = test::render(test::devicesUnderTest()[0], s, Algorithm::PathTracing, size, size, 32, 5);
+    const int texelAtCorner[4] = {1, 3, 0, 2}; // top left, top right, bottom left, bottom right
+    for (int corner = 0; corner < 4; ++corner) {
+        int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
+        for (int c = 0; c < 3; ++c) {
+            double sum = 0, sq = 0;
+            for (int y = y0; y < y0 + block; ++y)
+                for (int x = x0; x < x0 + block; ++x) {
+                    double v = r.image.rgb[3 * (size_t(y) * size + size_t(x)) + size_t(c)];
+                    sum += v;
+                    sq += v * v;
+                }
+            int n = block * block;
+            double mean = sum / n, se = std::sqrt(std::max(0.0, sq / n - mean * mean) / n);
+            double expected = L * s.textures[0].image.rgb[3 * size_t(texelAtCorner[corner]) + size_t(c)];
+            EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
+        }
+    }
+}
+
+// A metallic-roughness texture: metallic 0 in the left column (a white
+// Lambert there, no specular layer: exactly L under a uniform background L)
+// and 1 in the right (a rough white metal, as the same quad untextured with
+// metallic 1 renders it); the data texture is read without sRGB decoding,
+// and the quad keeps a diffuse lobe though its metallicFactor is 1.
+TEST_F(Textures, MetallicRoughnessTextureSelectsTheLobes)
+{
+    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
+    Scene textured = loadGltf(writeQuadWith(
+        "mr", {{"metallicRoughnessTexture", {{"index", 1}}}, {"metallicFactor", 1.0}, {"roughnessFactor", 1.0}}, clamp));
+    ASSERT_EQ(textured.textures.size(), 1u);
+    EXPECT_EQ(textured.materials.at(0).metallicRoughnessTexture, 1);
+    EXPECT_FLOAT_EQ(textured.textures[0].image.rgb[3 * 1 + 2], 1.0f); // B of texel (1, 0), as stored
+    EXPECT_TRUE(textured.materials.at(0).lobes & LOBE_DIFFUSE);
+    Scene metal = loadGltf(writeQuadWith("metal", {{"metallicFactor", 1.0}, {"roughnessFactor", 1.0}}, clamp));
+    const float L = 0.8f;
+    textured.background = metal.background = {L, L, L};
+    const int size = 32, block = 8, iterations = 32;
+    DeviceInfo device = test::devicesUnderTest()[0];
+    test::Render t = test::render(device, textured, Algorithm::PathTracing, size, size, iterations, 5);
+    test::Render m = test::render(device, metal, Algorithm::PathTracing, size, size, iterations, 6);
+    auto blockMean = [&](const Image& image, int x0, int y0, double* se) {
+        double sum = 0, sq = 0;
+        for (int y = y0; y < y0 + block; ++y)
+            for (int x = x0; x < x0 + block; ++x) {
+                double v = image.rgb[3 * (size_t(y) * size + size_t(x))];
+                sum += v;
+                sq += v * v;
+            }
+        int n = block * block;
+        double mean = sum / n;
+        *se = std::sqrt(std::max(0.0, sq / n - mean * mean) / n);
+        return mean;
+    };
+    for (int y0 : {0, size - block}) {
+        double seT, seM;
+        double left = blockMean(t.image, 0, y0, &seT);
+        EXPECT_NEAR(left, L, 5 * seT + 1e-4) << "dielectric column, row " << y0;
+        double right = blockMean(t.image, size - block, y0, &seT);
+        double reference = blockMean(m.image, size - block, y0, &seM);
+        EXPECT_NEAR(right, reference, 5 * std::sqrt(seT * seT + seM * seM) + 1e-4) << "metal column, row " << y0;
+        EXPECT_LT(reference, 0.98 * L) << "a rough metal loses energy: the two columns must differ";
     }
 }
 

@@ -87,6 +87,7 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
         info.height = t.image.height;
         info.wrapS = t.wrapS;
         info.wrapT = t.wrapT;
+        for (int k = 0; k < 6; ++k) info.uvTransform[k] = t.uvTransform[size_t(k)];
         textureTable.push_back(info);
         for (size_t p = 0; p < t.image.rgb.size() / 3; ++p)
             texels.push_back({t.image.rgb[3 * p], t.image.rgb[3 * p + 1], t.image.rgb[3 * p + 2], 0.0f});

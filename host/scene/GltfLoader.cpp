@@ -13,6 +13,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <tuple>
 
 namespace wv {
 namespace {
@@ -123,7 +124,10 @@ private:
 
     // 1 + the scene texture of glTF texture `index` as a base colour, 0
     // (with a warning) when it cannot be used.
-    int baseColorTexture(const tinygltf::TextureInfo& info, const std::string& material);
+    // 1 + the scene texture of a material's texture `info`, 0 (with a
+    // warning) when it cannot be used; `kind` names it ("base-colour"),
+    // `srgb`: its values are sRGB-encoded colour (else linear data).
+    int sceneTexture(const tinygltf::TextureInfo& info, const std::string& material, const char* kind, bool srgb);
 
     // Reads `count` elements of an accessor as floats (VEC3) or indices.
     std::vector<Vec3> readVec3(int accessorIndex, const std::string& what);
@@ -139,7 +143,8 @@ private:
     std::set<std::string> skippedModes_; // points and lines, for the error when nothing else is left
     int defaultMaterial_ = -1;
     DecodedImages images_;
-    std::map<int, int> sceneTexture_; // glTF texture index → 1 + index in scene_.textures
+    // (glTF texture, sRGB, uv transform) → 1 + index in scene_.textures
+    std::map<std::tuple<int, bool, std::array<float, 6>>, int> sceneTexture_;
 };
 
 bool decodeGltfImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
@@ -226,7 +231,8 @@ const std::set<std::string>& supportedExtensions()
 {
     static const std::set<std::string> s{
         "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_transmission",
-        "KHR_materials_ior", "KHR_materials_volume", "KHR_lights_punctual", "KHR_mesh_quantization"};
+        "KHR_materials_ior", "KHR_materials_volume", "KHR_lights_punctual", "KHR_mesh_quantization",
+        "KHR_texture_transform"};
     return s;
 }
 
@@ -259,33 +265,56 @@ void Loader::loadMaterials()
 
 float clamp01(double x) { return float(std::min(1.0, std::max(0.0, x))); }
 
-int Loader::baseColorTexture(const tinygltf::TextureInfo& info, const std::string& material)
+int Loader::sceneTexture(const tinygltf::TextureInfo& info, const std::string& material, const char* kind, bool srgb)
 {
-    std::string what = material + ": base-colour texture " + std::to_string(info.index);
+    std::string what = material + ": " + kind + " texture " + std::to_string(info.index);
     if (size_t(info.index) >= model_.textures.size()) fail(what + " out of range");
     if (info.texCoord != 0) {
         warnOnce(what + " uses TEXCOORD_" + std::to_string(info.texCoord) +
-                 "; only TEXCOORD_0 is supported, so baseColorFactor is used");
+                 "; only TEXCOORD_0 is supported, so the material's factor is used");
         return 0;
     }
-    if (extension(info.extensions, "KHR_texture_transform"))
-        warnOnce(what + ": KHR_texture_transform is not supported and is ignored");
-    auto known = sceneTexture_.find(info.index);
+    // KHR_texture_transform: uv' = offset + R(rotation) · (scale ∘ uv), R
+    // counter-clockwise (the extension's matrix translation · rotation · scale).
+    std::array<float, 6> transform{1, 0, 0, 0, 1, 0};
+    if (const tinygltf::Value* e = extension(info.extensions, "KHR_texture_transform")) {
+        auto pair = [&](const char* key, double fallback, int i) {
+            if (!e->Has(key)) return fallback;
+            const tinygltf::Value& v = e->Get(key);
+            if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber() ||
+                !std::isfinite(v.Get(i).GetNumberAsDouble()))
+                fail(what + ": KHR_texture_transform." + key + " must be two finite numbers");
+            return v.Get(i).GetNumberAsDouble();
+        };
+        double rotation = number(*e, "rotation", 0.0);
+        if (!std::isfinite(rotation)) fail(what + ": KHR_texture_transform.rotation must be finite");
+        double c = std::cos(rotation), s = std::sin(rotation);
+        double sx = pair("scale", 1, 0), sy = pair("scale", 1, 1);
+        transform = {float(c * sx), float(-s * sy), float(pair("offset", 0, 0)),
+                     float(s * sx), float(c * sy), float(pair("offset", 0, 1))};
+        if (e->Has("texCoord") && number(*e, "texCoord", 0) != 0) {
+            warnOnce(what + ": KHR_texture_transform selects another TEXCOORD; only TEXCOORD_0 is supported, so "
+                            "the material's factor is used");
+            return 0;
+        }
+    }
+    auto known = sceneTexture_.find({info.index, srgb, transform});
     if (known != sceneTexture_.end()) return known->second;
     const tinygltf::Texture& t = model_.textures[size_t(info.index)];
     int result = 0;
     auto image = images_.images.find(t.source);
     if (t.source < 0 || size_t(t.source) >= model_.images.size()) {
-        warnOnce(what + " has no image; baseColorFactor is used");
+        warnOnce(what + " has no image; the material's factor is used");
     } else if (image == images_.images.end()) {
         auto error = images_.errors.find(t.source);
         warnOnce(what + ": " + (error != images_.errors.end() ? error->second : "image " + std::to_string(t.source) +
-                                    " could not be read") + "; baseColorFactor is used");
+                                    " could not be read") + "; the material's factor is used");
     } else {
         Texture texture;
         texture.name = what;
         texture.image = image->second;
-        srgbToLinear(texture.image); // base colour is sRGB-encoded (glTF 2.0 §3.9.2)
+        if (srgb) srgbToLinear(texture.image); // colour is sRGB-encoded (glTF 2.0 §3.9.2), data linear
+        texture.uvTransform = transform;
         if (t.sampler >= 0 && size_t(t.sampler) < model_.samplers.size()) {
             auto wrap = [](int mode) {
                 return mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE     ? WRAP_CLAMP
@@ -298,7 +327,7 @@ int Loader::baseColorTexture(const tinygltf::TextureInfo& info, const std::strin
         scene_.textures.push_back(std::move(texture));
         result = int(scene_.textures.size());
     }
-    sceneTexture_[info.index] = result;
+    sceneTexture_[{info.index, srgb, transform}] = result;
     return result;
 }
 
@@ -318,10 +347,12 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     out.ior = 1.5f;
     out.thinWalled = 1;
 
-    if (pbr.baseColorTexture.index >= 0) out.baseColorTexture = baseColorTexture(pbr.baseColorTexture, name);
-    if (pbr.metallicRoughnessTexture.index >= 0 || m.normalTexture.index >= 0 ||
-        m.emissiveTexture.index >= 0 || m.occlusionTexture.index >= 0)
-        warnOnce(name + ": metallic-roughness, normal, emissive and occlusion textures are ignored");
+    if (pbr.baseColorTexture.index >= 0)
+        out.baseColorTexture = sceneTexture(pbr.baseColorTexture, name, "base-colour", true);
+    if (pbr.metallicRoughnessTexture.index >= 0)
+        out.metallicRoughnessTexture = sceneTexture(pbr.metallicRoughnessTexture, name, "metallic-roughness", false);
+    if (m.normalTexture.index >= 0 || m.emissiveTexture.index >= 0 || m.occlusionTexture.index >= 0)
+        warnOnce(name + ": normal, emissive and occlusion textures are ignored");
     if (m.alphaMode != "OPAQUE" && !m.alphaMode.empty())
         warnOnce(name + ": alphaMode " + m.alphaMode + " is not supported; the surface is opaque");
 
@@ -357,7 +388,9 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     // perfectly smooth, where a microfacet lobe would be numerically useless.
     bool smooth = out.roughness * out.roughness < 1e-3f;
     auto maxOf = [](const float c[3]) { return std::max(c[0], std::max(c[1], c[2])); };
-    float dielectric = 1.0f - out.metallic;
+    // A metallic-roughness texture scales metallic down anywhere from the
+    // factor to 0: the lobes must cover every value in between.
+    float dielectric = out.metallicRoughnessTexture > 0 ? 1.0f : 1.0f - out.metallic;
     bool diffuse = dielectric * (1.0f - out.transmission) > 0 && maxOf(out.baseColor) > 0;
     bool metalReflects = out.metallic > 0 && maxOf(out.baseColor) > 0;
     bool dielectricReflects = dielectric > 0 && out.ior != 1.0f &&
@@ -727,7 +760,8 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             material = defaultMaterial_;
         }
 
-        if (uvs.empty() && scene_.materials[size_t(material)].baseColorTexture > 0)
+        const Material& used = scene_.materials[size_t(material)];
+        if (uvs.empty() && (used.baseColorTexture > 0 || used.metallicRoughnessTexture > 0))
             warnOnce(what + ": a textured material without TEXCOORD_0; the texel at (0, 0) is used");
 
         // Normals exist for every triangle once any primitive has them.

@@ -6,6 +6,7 @@
 #include "../Vec3.h"
 #include "../image/Image.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,7 @@ static_assert(sizeof(BvhNode) == 7 * 4 * BVH_WIDTH, "BvhNode layout");
 static_assert(sizeof(TrianglePacket) == 40 * TRIANGLE_PACKET_WIDTH, "TrianglePacket layout");
 static_assert(sizeof(Camera) == 64, "Camera layout");
 static_assert(sizeof(Material) == 96, "Material layout");
-static_assert(sizeof(TextureInfo) == 32, "TextureInfo layout");
+static_assert(sizeof(TextureInfo) == 48, "TextureInfo layout");
 static_assert(sizeof(Light) == 64, "Light layout");
 static_assert(sizeof(SceneInfo) == 48, "SceneInfo layout");
 static_assert(sizeof(LightVertex) == 80, "LightVertex layout");
@@ -32,11 +33,13 @@ struct EnvironmentMap {
     bool empty() const { return image.rgb.empty(); }
 };
 
-// A texture: linear RGB (sRGB-decoded from the file), row 0 at v = 0.
+// A texture: linear values (colour sRGB-decoded from the file, data as stored), row 0 at v = 0.
 struct Texture {
     std::string name;
     Image image;
     int wrapS = WRAP_REPEAT, wrapT = WRAP_REPEAT;
+    // KHR_texture_transform as an affine map of TEXCOORD_0 (TextureInfo::uvTransform).
+    std::array<float, 6> uvTransform{1, 0, 0, 0, 1, 0};
 };
 
 // A camera as the glTF file describes it, before an image size is chosen.
@@ -56,7 +59,7 @@ struct SceneFeatures {
     bool emissiveTriangles = false;
     bool background = false;
     bool environmentMap = false; // the background's radiance comes from a map
-    bool textures = false;       // some material has a base-colour texture
+    bool textures = false;       // some material has a texture
 
     std::string buildOptions() const;
 };
@@ -73,7 +76,7 @@ struct Scene {
     std::vector<Light> lights; // punctual lights only; see render/LightTable.h
     Vec3 background{0, 0, 0}; // uniform background radiance (scene extras.background)
     EnvironmentMap environment; // replaces the uniform background when it has texels
-    std::vector<Texture> textures; // base-colour textures (Material::baseColorTexture)
+    std::vector<Texture> textures; // Material::baseColorTexture and ::metallicRoughnessTexture
     // TEXCOORD_0 of every triangle's corners (u, v per corner: 6 floats per
     // triangle) when the scene has textures, else empty.
     std::vector<float> uvs;

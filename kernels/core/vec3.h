@@ -56,8 +56,6 @@ INLINE vec3 v3_neg(vec3 a) { return v3(-a.x, -a.y, -a.z); }
 INLINE vec3 v3_abs(vec3 a) { return v3(fabs(a.x), fabs(a.y), fabs(a.z)); }
 /* a + s·b */
 INLINE vec3 v3_add_scaled(vec3 a, vec3 b, float s) { return v3(a.x + s * b.x, a.y + s * b.y, a.z + s * b.z); }
-/* c ? a : b, without a branch */
-INLINE vec3 v3_select(bool c, vec3 a, vec3 b) { return v3(c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z); }
 
 INLINE float v3_dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 INLINE vec3 v3_cross(vec3 a, vec3 b)
@@ -109,7 +107,6 @@ INLINE void store_vec2(__global float2* a, int i, vec2 v)
 /* The float[3] members of the shared structs (shared_types.h). */
 INLINE vec3 load3(__global const float* p) { return v3(p[0], p[1], p[2]); }
 INLINE vec3 load3c(__constant const float* p) { return v3(p[0], p[1], p[2]); }
-INLINE vec3 load3p(const float* p) { return v3(p[0], p[1], p[2]); }
 INLINE void store3(float* p, vec3 v)
 {
     p[0] = v.x;

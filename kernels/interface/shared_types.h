@@ -81,7 +81,8 @@ typedef struct Material {
     float attenuationColor[3];
     float attenuationDistance; /* KHR_materials_volume; 0 = no absorption */
     int baseColorTexture;      /* 1 + its index in the texture table; 0: none (baseColor alone) */
-    int pad[3];
+    int metallicRoughnessTexture; /* the same; its G scales roughness, its B metallic (linear) */
+    int pad[2];
 } Material;
 
 /* How a texture repeats outside [0, 1] (glTF sampler wrapS / wrapT). */
@@ -90,12 +91,15 @@ typedef struct Material {
 #define WRAP_MIRROR 2
 
 /* A texture of the scene: width × height linear RGB texels, row 0 at v = 0,
- * stored as float4 from texel `offset` of one buffer (kernels/materials/texture.h). */
+ * stored as float4 from texel `offset` of one buffer (kernels/materials/texture.h),
+ * looked up at (u', v') = (t[0] u + t[1] v + t[2], t[3] u + t[4] v + t[5]),
+ * t = uvTransform (KHR_texture_transform; the identity without it). */
 typedef struct TextureInfo {
     int offset;
     int width, height;
     int wrapS, wrapT;
-    int pad[3];
+    float uvTransform[6];
+    int pad;
 } TextureInfo;
 
 #define LIGHT_POINT 0

@@ -77,20 +77,38 @@ INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
     return sum > 0.0f ? v3(r / sum, t / sum, d / sum) : v3s(0.0f);
 }
 
+/* What a material is at one surface point: its factors, times its textures
+ * there where it has them (materials/texture.h: surface_material). */
+typedef struct SurfaceMaterial {
+    vec3 baseColor;
+    float metallic, roughness;
+} SurfaceMaterial;
+
+/* The factors alone (untextured). */
+INLINE SurfaceMaterial material_factors(__global const Material* m)
+{
+    SurfaceMaterial s;
+    s.baseColor = load3(m->baseColor);
+    s.metallic = m->metallic;
+    s.roughness = m->roughness;
+    return s;
+}
+
 /* The BSDF at a hit seen from local direction wo (wo.z > 0 after the caller
  * flipped the frame); frontSide: wo is on the side the normal points to;
- * `base` the base colour there (materials/texture.h: material_base_color). */
-INLINE Bsdf make_bsdf(__global const Material* m, vec3 base, vec3 wo, bool frontSide)
+ * `at` what the material is there. */
+INLINE Bsdf make_bsdf(__global const Material* m, const SurfaceMaterial* at, vec3 wo, bool frontSide)
 {
     Bsdf b;
     b.lobes = m->lobes & SCENE_LOBES;
-    b.alpha = fmax(m->roughness * m->roughness, 1e-3f);
+    vec3 base = at->baseColor;
+    b.alpha = fmax(at->roughness * at->roughness, 1e-3f);
     b.refracts = (b.lobes & LOBES_TRANSMIT) != 0u && !m->thinWalled;
     /* Opaque and thin-walled surfaces are two-sided: their Fresnel always
      * sees air → material. A refracting solid sees the inverse from inside. */
     b.eta = (b.refracts && !frontSide) ? 1.0f / m->ior : m->ior;
-    float dielectric = 1.0f - m->metallic;
-    b.metallic = m->metallic;
+    float dielectric = 1.0f - at->metallic;
+    b.metallic = at->metallic;
     b.metalF0 = base;
     b.specular = m->ior == 1.0f ? 0.0f : dielectric * m->specular; /* index-matched: no reflection */
     b.specularTint = v3_scale(load3(m->specularColor), b.specular);

@@ -1,6 +1,6 @@
-/* The BSDF of a surface point of the scene: triangle `tri`'s material, with
- * the base colour its texture gives at barycentrics `bary`, seen from local
- * direction woL (frontSide as in make_bsdf). */
+/* The BSDF of a surface point of the scene: triangle `tri`'s material as its
+ * textures make it at barycentrics `bary`, seen from local direction woL
+ * (frontSide as in make_bsdf). */
 #ifndef WAVEVCM_SURFACE_BSDF_H
 #define WAVEVCM_SURFACE_BSDF_H
 
@@ -12,8 +12,8 @@
 INLINE Bsdf surface_bsdf(const RenderBuffers* b, int tri, vec2 bary, vec3 woL, bool frontSide)
 {
     __global const Material* m = &b->materials[b->triMaterials[tri]];
-    vec3 base = material_base_color(m, b->textureTexels, b->textures, b->triUVs, tri, bary);
-    return make_bsdf(m, base, woL, frontSide);
+    SurfaceMaterial at = surface_material(m, b->textureTexels, b->textures, b->triUVs, tri, bary);
+    return make_bsdf(m, &at, woL, frontSide);
 }
 
 #endif

@@ -1,4 +1,4 @@
-/* Base-colour textures (host/scene/Scene.h: Texture; TextureInfo in
+/* Material textures (host/scene/Scene.h: Texture; TextureInfo in
  * interface/shared_types.h): bilinear filtering between texel centres at
  * ((i + 1/2) / width, (j + 1/2) / height), row 0 at v = 0 as in glTF, with
  * the sampler's wrap mode per axis. */
@@ -8,6 +8,7 @@
 #include "core/vec3.h"
 #include "interface/inline.h"
 #include "interface/shared_types.h"
+#include "materials/bsdf.h"
 
 /* Texel index i of a row or column of n under a glTF wrap mode: repeat,
  * clamp to the edge, or repeat mirrored every other time. */
@@ -20,8 +21,10 @@ INLINE int wrap_texel(int i, int n, int mode)
     return mode == WRAP_CLAMP ? clamp(i, 0, n - 1) : m;
 }
 
-INLINE vec3 texture_bilinear(__global const float4* texels, __global const TextureInfo* t, float u, float v)
+INLINE vec3 texture_bilinear(__global const float4* texels, __global const TextureInfo* t, float u0, float v0)
 {
+    float u = t->uvTransform[0] * u0 + t->uvTransform[1] * v0 + t->uvTransform[2];
+    float v = t->uvTransform[3] * u0 + t->uvTransform[4] * v0 + t->uvTransform[5];
     /* Far outside [0, 1] only the wrap matters; keep the texel indices in int range. */
     float x = clamp(u, -1e6f, 1e6f) * (float)t->width - 0.5f, y = clamp(v, -1e6f, 1e6f) * (float)t->height - 0.5f;
     float fx = floor(x), fy = floor(y);
@@ -34,22 +37,27 @@ INLINE vec3 texture_bilinear(__global const float4* texels, __global const Textu
     return v3_add(v3_scale(top, 1.0f - ay), v3_scale(bottom, ay));
 }
 
-/* The base colour of material m on triangle `tri` at barycentrics `bary`:
- * baseColorFactor, times its texture at the point's TEXCOORD_0. */
-INLINE vec3 material_base_color(__global const Material* m, __global const float4* texels,
-                                __global const TextureInfo* textures, __global const float2* triUVs, int tri,
-                                vec2 bary)
+/* What material m is on triangle `tri` at barycentrics `bary`: its factors
+ * times its textures at the point's TEXCOORD_0 — the base-colour texture's
+ * RGB, the metallic-roughness texture's B (metallic) and G (roughness). */
+INLINE SurfaceMaterial surface_material(__global const Material* m, __global const float4* texels,
+                                        __global const TextureInfo* textures, __global const float2* triUVs, int tri,
+                                        vec2 bary)
 {
-    vec3 color = load3(m->baseColor);
+    SurfaceMaterial s = material_factors(m);
 #ifdef HAS_TEXTURES
-    if (m->baseColorTexture > 0) {
-        vec2 t0 = load_vec2(triUVs, 3 * tri), t1 = load_vec2(triUVs, 3 * tri + 1), t2 = load_vec2(triUVs, 3 * tri + 2);
-        float b0 = 1.0f - bary.x - bary.y;
-        float u = b0 * t0.x + bary.x * t1.x + bary.y * t2.x, v = b0 * t0.y + bary.x * t1.y + bary.y * t2.y;
-        color = v3_mul(color, texture_bilinear(texels, &textures[m->baseColorTexture - 1], u, v));
+    vec2 t0 = load_vec2(triUVs, 3 * tri), t1 = load_vec2(triUVs, 3 * tri + 1), t2 = load_vec2(triUVs, 3 * tri + 2);
+    float b0 = 1.0f - bary.x - bary.y;
+    float u = b0 * t0.x + bary.x * t1.x + bary.y * t2.x, v = b0 * t0.y + bary.x * t1.y + bary.y * t2.y;
+    if (m->baseColorTexture > 0)
+        s.baseColor = v3_mul(s.baseColor, texture_bilinear(texels, &textures[m->baseColorTexture - 1], u, v));
+    if (m->metallicRoughnessTexture > 0) {
+        vec3 mr = texture_bilinear(texels, &textures[m->metallicRoughnessTexture - 1], u, v);
+        s.roughness *= mr.y;
+        s.metallic *= mr.z;
     }
 #endif
-    return color;
+    return s;
 }
 
 #endif

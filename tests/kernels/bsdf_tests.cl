@@ -19,7 +19,8 @@ __kernel void sample_bsdf(__global const Material* materials, __global const int
     int4 setup = setups[i];
     vec3 wo = from_float3(wos[i].xyz);
     bool adjoint = setup.z != 0;
-    Bsdf b = make_bsdf(&materials[setup.x], load3(materials[setup.x].baseColor), wo, setup.y != 0);
+    SurfaceMaterial at = material_factors(&materials[setup.x]);
+    Bsdf b = make_bsdf(&materials[setup.x], &at, wo, setup.y != 0);
     BsdfSample s;
     s.wi = v3s(0.0f);
     s.weight = v3s(0.0f);
@@ -47,7 +48,8 @@ __kernel void eval_bsdf(__global const Material* materials, __global const int4*
         return;
     int4 setup = setups[i];
     vec3 wo = from_float3(wos[i].xyz);
-    Bsdf b = make_bsdf(&materials[setup.x], load3(materials[setup.x].baseColor), wo, setup.y != 0);
+    SurfaceMaterial at = material_factors(&materials[setup.x]);
+    Bsdf b = make_bsdf(&materials[setup.x], &at, wo, setup.y != 0);
     float pdfFwd, pdfRev;
     vec3 f = bsdf_eval(&b, wo, from_float3(wis[i].xyz), setup.z != 0, &pdfFwd, &pdfRev);
     evalF[i] = (float4)(to_float3(f), pdfFwd);
@@ -92,7 +94,8 @@ __kernel void pdf_bin_integrals(__global const Material* materials, int4 setup, 
         return;
     vec3 wo = from_float3(wo4.xyz);
     bool adjoint = setup.z != 0;
-    Bsdf b = make_bsdf(&materials[setup.x], load3(materials[setup.x].baseColor), wo, setup.y != 0);
+    SurfaceMaterial at = material_factors(&materials[setup.x]);
+    Bsdf b = make_bsdf(&materials[setup.x], &at, wo, setup.y != 0);
     float dTheta = PI_F / (float)thetaBins, dPhi = 2.0f * PI_F / (float)phiBins;
     float theta0 = (float)(bin / phiBins) * dTheta, phi0 = -PI_F + (float)(bin % phiBins) * dPhi;
     float estimate = bin_integral(&b, wo, adjoint, theta0, dTheta, phi0, dPhi, 16);

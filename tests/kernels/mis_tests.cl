@@ -16,7 +16,8 @@ INLINE Densities densities(__global const Material* m, float3 n, float3 fixed, f
 {
     Frame f = frame_from_normal(from_float3(n));
     vec3 a = to_local(&f, from_float3(fixed)), b = to_local(&f, from_float3(out));
-    Bsdf bsdf = make_bsdf(m, load3(m->baseColor), a, true);
+    SurfaceMaterial at = material_factors(m);
+    Bsdf bsdf = make_bsdf(m, &at, a, true);
     Densities d;
     bsdf_eval(&bsdf, a, b, false, &d.fwd, &d.rev);
     d.cont = continuation_probability(&bsdf);
