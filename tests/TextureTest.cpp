@@ -111,6 +111,23 @@ bool anyWarningContains(const Scene& s, const std::string& text)
     return false;
 }
 
+// The mean of channel c over the block × block pixels from (x0, y0) of a
+// size × size image, and its standard error from the pixels' spread.
+double blockMean(const Image& image, int size, int x0, int y0, int block, int c, double* se)
+{
+    double sum = 0, sq = 0;
+    for (int y = y0; y < y0 + block; ++y)
+        for (int x = x0; x < x0 + block; ++x) {
+            double v = image.rgb[3 * (size_t(y) * size_t(size) + size_t(x)) + size_t(c)];
+            sum += v;
+            sq += v * v;
+        }
+    int n = block * block;
+    double mean = sum / n;
+    *se = std::sqrt(std::max(0.0, sq / n - mean * mean) / n);
+    return mean;
+}
+
 TEST_F(Textures, LoadDecodedWithWrapModesAndCoordinates)
 {
     Scene s = loadGltf(writeQuad("quad", {{"index", 0}}, {{"wrapS", 33071}, {"wrapT", 33648}}));
@@ -161,15 +178,7 @@ TEST_F(Textures, TexelsRenderWhereTheyLie)
         for (int corner = 0; corner < 4; ++corner) {
             int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
             for (int c = 0; c < 3; ++c) {
-                double sum = 0, sq = 0;
-                for (int y = y0; y < y0 + block; ++y)
-                    for (int x = x0; x < x0 + block; ++x) {
-                        double v = r.image.rgb[3 * (size_t(y) * size + size_t(x)) + size_t(c)];
-                        sum += v;
-                        sq += v * v;
-                    }
-                int n = block * block;
-                double mean = sum / n, se = std::sqrt(std::max(0.0, sq / n - mean * mean) / n);
+                double se, mean = blockMean(r.image, size, x0, y0, block, c, &se);
                 double expected = L * s.textures[0].image.rgb[3 * size_t(corner) + size_t(c)];
                 // 5 standard errors of the block's mean, and float rounding
                 EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
@@ -206,15 +215,7 @@ TEST_F(Textures, TextureTransformMovesTheTexels)
     for (int corner = 0; corner < 4; ++corner) {
         int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
         for (int c = 0; c < 3; ++c) {
-            double sum = 0, sq = 0;
-            for (int y = y0; y < y0 + block; ++y)
-                for (int x = x0; x < x0 + block; ++x) {
-                    double v = r.image.rgb[3 * (size_t(y) * size + size_t(x)) + size_t(c)];
-                    sum += v;
-                    sq += v * v;
-                }
-            int n = block * block;
-            double mean = sum / n, se = std::sqrt(std::max(0.0, sq / n - mean * mean) / n);
+            double se, mean = blockMean(r.image, size, x0, y0, block, c, &se);
             double expected = L * s.textures[0].image.rgb[3 * size_t(texelAtCorner[corner]) + size_t(c)];
             EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
         }
@@ -242,25 +243,12 @@ TEST_F(Textures, MetallicRoughnessTextureSelectsTheLobes)
     DeviceInfo device = test::devicesUnderTest()[0];
     test::Render t = test::render(device, textured, Algorithm::PathTracing, size, size, iterations, 5);
     test::Render m = test::render(device, metal, Algorithm::PathTracing, size, size, iterations, 6);
-    auto blockMean = [&](const Image& image, int x0, int y0, double* se) {
-        double sum = 0, sq = 0;
-        for (int y = y0; y < y0 + block; ++y)
-            for (int x = x0; x < x0 + block; ++x) {
-                double v = image.rgb[3 * (size_t(y) * size + size_t(x))];
-                sum += v;
-                sq += v * v;
-            }
-        int n = block * block;
-        double mean = sum / n;
-        *se = std::sqrt(std::max(0.0, sq / n - mean * mean) / n);
-        return mean;
-    };
-    for (int y0 : {0, size - block}) {
+    for (int y0 : {0, size - block}) { // the red channel: the quad is white
         double seT, seM;
-        double left = blockMean(t.image, 0, y0, &seT);
+        double left = blockMean(t.image, size, 0, y0, block, 0, &seT);
         EXPECT_NEAR(left, L, 5 * seT + 1e-4) << "dielectric column, row " << y0;
-        double right = blockMean(t.image, size - block, y0, &seT);
-        double reference = blockMean(m.image, size - block, y0, &seM);
+        double right = blockMean(t.image, size, size - block, y0, block, 0, &seT);
+        double reference = blockMean(m.image, size, size - block, y0, block, 0, &seM);
         EXPECT_NEAR(right, reference, 5 * std::sqrt(seT * seT + seM * seM) + 1e-4) << "metal column, row " << y0;
         EXPECT_LT(reference, 0.98 * L) << "a rough metal loses energy: the two columns must differ";
     }

@@ -99,13 +99,13 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     textures = upload(textureTable, "the texture table");
     triUVs = upload(uvs, "the texture coordinates");
     const EnvironmentLight& env = lightTable.environment;
-    auto orPlaceholder = [](std::vector<float> v, size_t n) { // OpenCL buffers cannot be empty
+    auto nonEmpty = [](std::vector<float> v, size_t n) { // OpenCL buffers cannot be empty
         if (v.empty()) v.assign(n, 0.0f);
         return v;
     };
-    envRadiance = upload(orPlaceholder(env.radiance, 4), "the environment map");
-    envMarginalCdf = upload(orPlaceholder(env.marginalCdf, 1), "the environment map's distribution");
-    envConditionalCdf = upload(orPlaceholder(env.conditionalCdf, 1), "the environment map's distribution");
+    envRadiance = upload(nonEmpty(env.radiance, 4), "the environment map");
+    envMarginalCdf = upload(nonEmpty(env.marginalCdf, 1), "the environment map's distribution");
+    envConditionalCdf = upload(nonEmpty(env.conditionalCdf, 1), "the environment map's distribution");
     if (bytes > device.info.globalMemory)
         throw Error("the scene needs " + megabytes(bytes) + " but " + device.info.name + " has " +
                     megabytes(device.info.globalMemory));
