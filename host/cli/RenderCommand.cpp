@@ -378,6 +378,16 @@ int runRender(const RenderOptions& o)
             {"scene_origin", {scene.origin[0], scene.origin[1], scene.origin[2]}},
             {"device_bytes", renderer.deviceBytes()},
         };
+        // Device memory per texture (one float4 per texel).
+        size_t textureBytes = 0;
+        stats["textures"] = nlohmann::json::array();
+        for (const Texture& t : scene.textures) {
+            size_t bytes = size_t(t.image.width) * size_t(t.image.height) * 16;
+            textureBytes += bytes;
+            stats["textures"].push_back({{"name", t.name}, {"width", t.image.width}, {"height", t.image.height},
+                                         {"bytes", bytes}});
+        }
+        stats["texture_bytes"] = textureBytes;
         std::ofstream out(o.statsFile);
         out << stats.dump(2) << "\n";
         if (!out) throw Error(o.statsFile + ": cannot write");
