@@ -234,13 +234,8 @@ TEST(Bidirectional, SmoothShadedEmitterAgreesWithThePathTracer)
     DeviceInfo device = test::devicesUnderTest()[0];
     const int w = 32, h = 24, iterations = 16, seeds = 8;
     std::vector<Image> pt = test::renderSeeds(device, scene, Algorithm::PathTracing, w, h, iterations, seeds);
-    for (Algorithm a : {Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}) {
-        SCOPED_TRACE(algorithmName(a));
-        std::vector<Image> other = test::renderSeeds(device, scene, a, w, h, iterations, seeds);
-        int compared = 0;
-        EXPECT_EQ(test::tilesDisagreeing(other, pt, 8, 5.0, {}, &compared), 0);
-        EXPECT_EQ(compared, (w / 8) * (h / 8));
-    }
+    test::expectConvergeTo(device, scene, pt, {Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}, w, h,
+                           iterations, seeds);
 }
 
 } // namespace

@@ -87,13 +87,8 @@ TEST(Environment, EveryAlgorithmConvergesToOneImage)
     for (const Image& i : pt)
         for (float v : i.rgb) mean += v / double(i.rgb.size() * pt.size());
     ASSERT_GT(mean, 0.05) << "the sky should light the scene";
-    for (Algorithm a : {Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}) {
-        SCOPED_TRACE(algorithmName(a));
-        std::vector<Image> other = test::renderSeeds(device, scene, a, w, h, iterations, seeds);
-        int compared = 0;
-        EXPECT_EQ(test::tilesDisagreeing(other, pt, 8, 5.0, {}, &compared), 0);
-        EXPECT_EQ(compared, (w / 8) * (h / 8));
-    }
+    test::expectConvergeTo(device, scene, pt, {Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}, w, h,
+                           iterations, seeds);
 }
 
 // A furnace: a convex Lambert surface of albedo a under a constant

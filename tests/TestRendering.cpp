@@ -132,6 +132,18 @@ int tilesDisagreeing(const std::vector<Image>& a, const std::vector<Image>& b, i
     return bad;
 }
 
+void expectConvergeTo(const DeviceInfo& device, const Scene& scene, const std::vector<Image>& reference,
+                      std::vector<Algorithm> algorithms, int width, int height, int iterations, int seeds)
+{
+    for (Algorithm a : algorithms) {
+        SCOPED_TRACE(algorithmName(a));
+        std::vector<Image> other = renderSeeds(device, scene, a, width, height, iterations, seeds);
+        int compared = 0;
+        EXPECT_EQ(tilesDisagreeing(other, reference, 8, 5.0, {}, &compared), 0);
+        EXPECT_EQ(compared, (width / 8) * (height / 8));
+    }
+}
+
 void expectSameImageOnEveryDevice(const Scene& scene, Algorithm algorithm, int size, int iterations)
 {
     std::vector<DeviceInfo> devices = enumerateDevices();

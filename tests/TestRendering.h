@@ -45,6 +45,12 @@ std::vector<Image> renderSeeds(const DeviceInfo& device, const Scene& scene, Alg
 int tilesDisagreeing(const std::vector<Image>& a, const std::vector<Image>& b, int tile, double k,
                      const std::vector<bool>& mask = {}, int* compared = nullptr);
 
+// Each of `algorithms`, rendered like `reference` (renderSeeds with `seeds`
+// seeds at width × height, `iterations` each), agrees with it on every 8×8
+// block within 5 seed-to-seed standard errors, and every block is compared.
+void expectConvergeTo(const DeviceInfo& device, const Scene& scene, const std::vector<Image>& reference,
+                      std::vector<Algorithm> algorithms, int width, int height, int iterations, int seeds);
+
 // The same image from every OpenCL device present (skips with one): per 8×8
 // block, means over three seeds agree within 5 seed-to-seed standard errors;
 // with the same seeds the devices draw the same samples, so their images must

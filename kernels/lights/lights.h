@@ -344,15 +344,11 @@ INLINE bool light_sample_resolved(vec3 p, vec3 pError, vec3 ng, const LightSampl
  * along the direction of an infinite light. */
 INLINE Ray shadow_ray_to_light(vec3 p, vec3 pError, vec3 ng, const LightSample* ls)
 {
-    bool triangle = ls->type == LIGHT_TRIANGLE;
-    vec3 target = triangle ? ls->lightPoint : v3_add_scaled(p, ls->direction, ls->distance);
-    Ray r = ray_between(p, pError, ng, target, triangle ? ls->lightError : v3s(0.0f),
-                        triangle ? ls->lightNormal : v3_neg(ls->direction));
-#if defined(HAS_DIRECTIONAL_LIGHTS) || defined(HAS_BACKGROUND)
     if (isinf(ls->distance))
-        r = spawn_ray(p, pError, ng, ls->direction);
-#endif
-    return r;
+        return spawn_ray(p, pError, ng, ls->direction);
+    if (ls->type == LIGHT_TRIANGLE)
+        return ray_between(p, pError, ng, ls->lightPoint, ls->lightError, ls->lightNormal);
+    return ray_between(p, pError, ng, v3_add_scaled(p, ls->direction, ls->distance), v3s(0.0f), v3_neg(ls->direction));
 }
 
 #endif
