@@ -3,11 +3,16 @@
 #include "../Error.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <future>
 #include <list>
 #include <mutex>
-#include <future>
+#include <new>
 #include <thread>
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 
 namespace wv {
 namespace {
@@ -21,6 +26,22 @@ constexpr int kMedianSplitDepth = 32;
 // Below a split of at least this many triangles, near the root, the two
 // subtrees are built on two threads.
 constexpr uint32_t kParallelMinTriangles = 16384;
+
+// Runs work(i) for i in [0, count) on all cores; rethrows the first exception.
+template <typename Work>
+void parallelFor(size_t count, Work work)
+{
+    std::atomic<size_t> next{0};
+    auto worker = [&] {
+        for (size_t i; (i = next++) < count;) work(i);
+    };
+    std::vector<std::future<void>> workers;
+    unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    for (unsigned w = 1; w < std::min<size_t>(threads, count); ++w)
+        workers.push_back(std::async(std::launch::async, worker));
+    worker();
+    for (std::future<void>& w : workers) w.get();
+}
 
 // A node of the binary SAH tree, covering the triangles tris[begin, begin +
 // count); height is 0 for a leaf. Children are pointers: a subtree built on a
@@ -80,7 +101,7 @@ struct Extent {
 // that nodes are written to are ever touched.
 class NodeArrays {
 public:
-    std::vector<BinaryNode>& add(size_t triangles)
+    LargeArray<BinaryNode>& add(size_t triangles)
     {
         std::lock_guard<std::mutex> lock(mutex_);
         arrays_.emplace_back().reserve(2 * triangles - 1);
@@ -89,21 +110,21 @@ public:
 
 private:
     std::mutex mutex_;
-    std::list<std::vector<BinaryNode>> arrays_;
+    std::list<LargeArray<BinaryNode>> arrays_;
 };
 
 class Builder {
 public:
     // Subtrees at depth < parallelDepth are built in parallel: 2^parallelDepth
     // threads at most. The tree is the same for any parallelDepth.
-    Builder(std::vector<BuildTriangle>& tris, NodeArrays& arrays, int parallelDepth)
+    Builder(LargeArray<BuildTriangle>& tris, NodeArrays& arrays, int parallelDepth)
         : tris_(tris), arrays_(arrays), parallelDepth_(parallelDepth)
     {
     }
 
     // Builds the subtree of tris_[begin, end), whose extent is `extent`, into
     // `out` (which has room for it); returns its root.
-    const BinaryNode* node(std::vector<BinaryNode>& out, uint32_t begin, uint32_t end, const Extent& extent, int depth)
+    const BinaryNode* node(LargeArray<BinaryNode>& out, uint32_t begin, uint32_t end, const Extent& extent, int depth)
     {
         BinaryNode& n = out.emplace_back();
         n.bounds = extent.bounds.bounds();
@@ -112,11 +133,13 @@ public:
         n.first = n.second = nullptr;
         n.height = 0;
         Extent left, right;
-        uint32_t mid = n.count > 1 ? split(begin, end, extent, depth, &left, &right) : begin;
+        // A node of at most one packet's triangles is a leaf: the wide tree
+        // tests them together whatever the binary tree below would be.
+        uint32_t mid = n.count > TRIANGLE_PACKET_WIDTH ? split(begin, end, extent, depth, &left, &right) : begin;
         if (mid == begin) return &n; // leaf
 
         if (depth < parallelDepth_ && n.count >= kParallelMinTriangles) {
-            std::vector<BinaryNode>& leftNodes = arrays_.add(mid - begin);
+            LargeArray<BinaryNode>& leftNodes = arrays_.add(mid - begin);
             std::future<const BinaryNode*> first =
                 std::async(std::launch::async, [&] { return node(leftNodes, begin, mid, left, depth + 1); });
             n.second = node(out, mid, end, right, depth + 1);
@@ -152,38 +175,47 @@ private:
             scale[a] = e > 0.0f ? kBins / e : 0.0f;
         }
         V4 origin = extent.centroids.lo;
-        for (uint32_t i = begin; i < end; ++i) {
-            const BuildTriangle& t = tris_[i];
+        auto binOf = [&](V4 lo, V4 hi) {
+            I4 b = __builtin_convertvector(((lo + hi) * 0.5f - origin) * scale, I4);
+            return b < kBins - 1 ? b : I4{kBins - 1, kBins - 1, kBins - 1, kBins - 1};
+        };
+        for (uint32_t k = begin; k < end; ++k) {
+            const BuildTriangle& t = tris_[k];
             V4 lo = t.lo, hi = t.hi();
-            V4 position = ((lo + hi) * 0.5f - origin) * scale;
+            I4 b = binOf(lo, hi);
             for (int a = 0; a < 3; ++a) {
-                int b = std::min(kBins - 1, int(position[a]));
-                bin[a][b].extend(lo, hi);
-                binCount[a][b]++;
+                bin[a][b[a]].extend(lo, hi);
+                binCount[a][b[a]]++;
             }
         }
+        // The sweep visits occupied bins only: a split beside an empty bin
+        // costs the same as the one before it, never strictly less.
         float bestCost = INFINITY;
         int bestAxis = -1, bestBin = -1;
         for (int a = 0; a < 3; ++a) {
             if (scale[a] == 0.0f) continue;
+            int occupied[kBins], m = 0;
+            for (int b = 0; b < kBins; ++b) {
+                occupied[m] = b;
+                m += binCount[a][b] > 0;
+            }
             float rightArea[kBins];
             uint32_t rightCount[kBins];
             Box4 acc;
             uint32_t n = 0;
-            for (int b = kBins - 1; b > 0; --b) {
-                acc.extend(bin[a][b]);
-                n += binCount[a][b];
-                rightArea[b] = acc.surfaceArea();
-                rightCount[b] = n;
+            for (int j = m - 1; j > 0; --j) {
+                acc.extend(bin[a][occupied[j]]);
+                n += binCount[a][occupied[j]];
+                rightArea[j] = acc.surfaceArea();
+                rightCount[j] = n;
             }
             acc = Box4();
             n = 0;
-            for (int b = 0; b < kBins - 1; ++b) {
-                acc.extend(bin[a][b]);
-                n += binCount[a][b];
-                if (n == 0 || rightCount[b + 1] == 0) continue;
-                float cost = acc.surfaceArea() * n + rightArea[b + 1] * rightCount[b + 1];
-                if (cost < bestCost) { bestCost = cost; bestAxis = a; bestBin = b; }
+            for (int j = 0; j < m - 1; ++j) {
+                acc.extend(bin[a][occupied[j]]);
+                n += binCount[a][occupied[j]];
+                float cost = acc.surfaceArea() * n + rightArea[j + 1] * rightCount[j + 1];
+                if (cost < bestCost) { bestCost = cost; bestAxis = a; bestBin = occupied[j]; }
             }
         }
         float area = extent.bounds.surfaceArea();
@@ -223,7 +255,7 @@ private:
         return mid;
     }
 
-    std::vector<BuildTriangle>& tris_;
+    LargeArray<BuildTriangle>& tris_;
     NodeArrays& arrays_;
     int parallelDepth_;
 };
@@ -241,25 +273,39 @@ private:
 // node), so each node is given a budget, starting at BVH_STACK_SIZE - 1 >= the
 // binary tree's height, and an expansion is taken only if (children - 1) plus
 // the largest remaining binary height stays within it.
+//
+// In parallel: the top of the tree is collapsed first, with every interior
+// child of at most `deferBelow` triangles left as a task; the tasks are
+// collapsed on all cores into subtrees of their own (local node and packet
+// indices), and each is then copied into place with its indices moved, its
+// leaves' packets written there directly. The tree is the one a sequential
+// collapse makes; only the order of nodes and packets in memory differs.
 class Collapser {
 public:
-    Collapser(const std::vector<Vec3>& vertices, Bvh& bvh) : vertices_(vertices), bvh_(bvh) {}
+    // A wide subtree still to be collapsed: binary root, stack budget, depth,
+    // and the wide node's child slot that will point at it.
+    struct Task {
+        const BinaryNode* root;
+        int budget, depth;
+        int parent, slot;
+    };
+    // A leaf's triangles [begin, begin + count), packed from local packet `first` on.
+    struct Leaf {
+        uint32_t begin, count, first;
+    };
 
-    void collapse(const BinaryNode* root)
+    explicit Collapser(uint32_t deferBelow) : deferBelow_(deferBelow) {}
+
+    std::vector<BvhNode> nodes;
+    std::vector<Leaf> leaves;
+    uint32_t packetCount = 0;
+    std::vector<Task> tasks;
+    int depth = 0;
+
+    // Wide node `index` (already allocated) from binary node b, whose stack budget is `budget`.
+    void fill(int index, const BinaryNode* b, int budget, int level)
     {
-        if (root->height > kMaxBvhDepth) throw Error("internal error: the binary BVH is too deep");
-        bvh_.nodes.emplace_back();
-        fill(0, root, BVH_STACK_SIZE - 1, 1);
-    }
-
-private:
-    static bool isLeaf(const BinaryNode* b) { return b->leaf() || b->count <= TRIANGLE_PACKET_WIDTH; }
-    static int height(const BinaryNode* b) { return isLeaf(b) ? 0 : b->height; }
-
-    // Wide node `index` from binary node b, whose stack budget is `budget`.
-    void fill(int index, const BinaryNode* b, int budget, int depth)
-    {
-        bvh_.depth = std::max(bvh_.depth, depth);
+        depth = std::max(depth, level);
         const BinaryNode* children[BVH_WIDTH];
         int k = 0;
         if (isLeaf(b)) children[k++] = b; // the root of a tiny scene
@@ -289,7 +335,7 @@ private:
                 node.bounds[a][i] = INFINITY;
                 node.bounds[3 + a][i] = -INFINITY;
             }
-            node.child[i] = 0;
+            node.child[i] = 0; // an empty slot (index 0 is a root, nobody's child)
         }
         for (int i = 0; i < k; ++i) {
             const BinaryNode& c = *children[i];
@@ -299,29 +345,87 @@ private:
             }
             if (isLeaf(children[i])) {
                 node.child[i] = leaf(c.begin, c.count);
+            } else if (c.count <= deferBelow_) {
+                tasks.push_back({children[i], budget - (k - 1), level + 1, index, i});
             } else {
-                node.child[i] = int(bvh_.nodes.size());
-                bvh_.nodes.emplace_back();
-                fill(node.child[i], children[i], budget - (k - 1), depth + 1);
+                node.child[i] = int(nodes.size());
+                nodes.emplace_back();
+                fill(node.child[i], children[i], budget - (k - 1), level + 1);
             }
         }
-        bvh_.nodes[index] = node;
+        nodes[index] = node;
     }
 
-    // Packs triangles [begin, begin + count) into packets; returns the child code.
+    // Copies this subtree to nodes[nodeBase...] and writes its packets to
+    // packets[packetBase...], moving the indices by those bases.
+    void place(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, BvhNode* nodesOut,
+               int nodeBase, TrianglePacket* packetsOut, int packetBase) const
+    {
+        for (size_t n = 0; n < nodes.size(); ++n) {
+            BvhNode node = nodes[n];
+            for (int& c : node.child) {
+                if (c > 0) c += nodeBase;
+                else if (c < 0) c = ~(~c + 8 * packetBase); // the first packet moves, the count bits stay
+            }
+            nodesOut[nodeBase + n] = node;
+        }
+        for (const Leaf& leaf : leaves)
+            writePackets(vertices, order, leaf.begin, leaf.count, packetsOut + packetBase + leaf.first);
+    }
+
+private:
+    static bool isLeaf(const BinaryNode* b) { return b->leaf() || b->count <= TRIANGLE_PACKET_WIDTH; }
+    static int height(const BinaryNode* b) { return isLeaf(b) ? 0 : b->height; }
+
+    // Reserves packets for triangles [begin, begin + count); returns the child code.
     int leaf(uint32_t begin, uint32_t count)
     {
-        int first = int(bvh_.packets.size());
-        int packets = int((count + TRIANGLE_PACKET_WIDTH - 1) / TRIANGLE_PACKET_WIDTH);
-        if (packets > BVH_LEAF_MAX_PACKETS) throw Error("internal error: a BVH leaf has too many triangles");
-        if (first > (INT32_MAX >> 3)) throw Error("too many triangles for the BVH's leaf encoding");
-        appendPackets(vertices_, bvh_.triangleOrder, begin, count, bvh_.packets);
-        return ~(first * 8 + packets - 1);
+        uint32_t n = (count + TRIANGLE_PACKET_WIDTH - 1) / TRIANGLE_PACKET_WIDTH;
+        if (n > BVH_LEAF_MAX_PACKETS) throw Error("internal error: a BVH leaf has too many triangles");
+        leaves.push_back({begin, count, packetCount});
+        packetCount += n;
+        return ~int(8 * (packetCount - n) + n - 1);
     }
 
-    const std::vector<Vec3>& vertices_;
-    Bvh& bvh_;
+    uint32_t deferBelow_;
 };
+
+// The wide tree of the binary tree at `root` into bvh (nodes, packets, depth).
+void collapse(const std::vector<Vec3>& vertices, const BinaryNode* root, Bvh& bvh)
+{
+    if (root->height > kMaxBvhDepth) throw Error("internal error: the binary BVH is too deep");
+    unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    // Tasks of about 1/16 of the triangles per core balance the cores; small
+    // scenes are collapsed on one.
+    uint32_t deferBelow = threads > 1 && root->count >= kParallelMinTriangles ? root->count / (16 * threads) : 0;
+    std::vector<Collapser> parts(1, Collapser(deferBelow)); // the top, then a part per task
+    parts[0].nodes.emplace_back();
+    parts[0].fill(0, root, BVH_STACK_SIZE - 1, 1);
+    const std::vector<Collapser::Task> tasks = std::move(parts[0].tasks);
+    parts.resize(1 + tasks.size(), Collapser(0));
+    parallelFor(tasks.size(), [&](size_t i) {
+        Collapser& part = parts[1 + i];
+        part.nodes.emplace_back();
+        part.fill(0, tasks[i].root, tasks[i].budget, tasks[i].depth);
+    });
+
+    std::vector<int> nodeBase(parts.size()), packetBase(parts.size());
+    size_t nodeCount = 0, packetCount = 0;
+    for (size_t p = 0; p < parts.size(); ++p) {
+        nodeBase[p] = int(nodeCount);
+        packetBase[p] = int(packetCount);
+        nodeCount += parts[p].nodes.size();
+        packetCount += parts[p].packetCount;
+        bvh.depth = std::max(bvh.depth, parts[p].depth);
+    }
+    if (packetCount > size_t(INT32_MAX >> 3)) throw Error("too many triangles for the BVH's leaf encoding");
+    for (size_t i = 0; i < tasks.size(); ++i) parts[0].nodes[tasks[i].parent].child[tasks[i].slot] = nodeBase[1 + i];
+    bvh.nodes.resize(nodeCount);
+    bvh.packets.resize(packetCount);
+    parallelFor(parts.size(), [&](size_t p) {
+        parts[p].place(vertices, bvh.triangleOrder, bvh.nodes.data(), nodeBase[p], bvh.packets.data(), packetBase[p]);
+    });
+}
 
 // Σ over the subtree's nodes of area(node) · (traversal cost, or triangles for a leaf).
 double sahCost(const BinaryNode* n)
@@ -332,11 +436,28 @@ double sahCost(const BinaryNode* n)
 
 } // namespace
 
-void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
-                   uint32_t count, std::vector<TrianglePacket>& packets)
+void* allocateLargeArray(size_t bytes)
+{
+    constexpr size_t kHugePage = size_t(2) << 20;
+    void* p = nullptr;
+    if (bytes >= kHugePage) {
+        size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+        p = std::aligned_alloc(kHugePage, rounded);
+#ifdef MADV_HUGEPAGE
+        if (p) madvise(p, rounded, MADV_HUGEPAGE); // advice only: ignored where unsupported
+#endif
+    } else {
+        p = std::malloc(std::max<size_t>(bytes, 1));
+    }
+    if (!p) throw std::bad_alloc();
+    return p;
+}
+
+void writePackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
+                  uint32_t count, TrianglePacket* out)
 {
     for (uint32_t p = 0; p * TRIANGLE_PACKET_WIDTH < count; ++p) {
-        TrianglePacket& packet = packets.emplace_back();
+        TrianglePacket& packet = out[p];
         for (uint32_t lane = 0; lane < TRIANGLE_PACKET_WIDTH; ++lane) {
             uint32_t slot = p * TRIANGLE_PACKET_WIDTH + lane;
             bool real = slot < count;
@@ -349,23 +470,40 @@ void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t
     }
 }
 
+void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
+                   uint32_t count, std::vector<TrianglePacket>& packets)
+{
+    size_t first = packets.size();
+    packets.resize(first + (count + TRIANGLE_PACKET_WIDTH - 1) / TRIANGLE_PACKET_WIDTH);
+    writePackets(vertices, order, begin, count, packets.data() + first);
+}
+
 Bvh buildBvh(const std::vector<Vec3>& vertices)
 {
     auto start = std::chrono::steady_clock::now();
     size_t count = vertices.size() / 3;
     if (count == 0) throw Error("cannot build a BVH over no triangles");
     if (count > size_t(INT32_MAX) / 3) throw Error("too many triangles for 32-bit indices");
-    std::vector<BuildTriangle> tris(count);
+    LargeArray<BuildTriangle> tris(count);
+    constexpr size_t kChunks = 64;
+    std::vector<Extent> chunkExtent(kChunks);
+    parallelFor(kChunks, [&](size_t chunk) {
+        Extent& e = chunkExtent[chunk];
+        for (size_t t = count * chunk / kChunks; t < count * (chunk + 1) / kChunks; ++t) {
+            Bounds box;
+            for (int k = 0; k < 3; ++k) box.extend(vertices[3 * t + k]);
+            V4 lo = {box.lo.x, box.lo.y, box.lo.z, 0}, hi = {box.hi.x, box.hi.y, box.hi.z, 0};
+            tris[t].lo = lo;
+            tris[t].hiAndIndex = V4(I4(hi) | I4{0, 0, 0, int32_t(t)});
+            V4 c = tris[t].centroid();
+            e.bounds.extend(lo, hi);
+            e.centroids.extend(c, c);
+        }
+    });
     Extent all;
-    for (size_t t = 0; t < count; ++t) {
-        Bounds box;
-        for (int k = 0; k < 3; ++k) box.extend(vertices[3 * t + k]);
-        V4 lo = {box.lo.x, box.lo.y, box.lo.z, 0}, hi = {box.hi.x, box.hi.y, box.hi.z, 0};
-        tris[t].lo = lo;
-        tris[t].hiAndIndex = V4(I4(hi) | I4{0, 0, 0, int32_t(t)});
-        V4 c = tris[t].centroid();
-        all.bounds.extend(lo, hi);
-        all.centroids.extend(c, c);
+    for (const Extent& e : chunkExtent) {
+        all.bounds.extend(e.bounds);
+        all.centroids.extend(e.centroids);
     }
     // Two levels more than the cores need: splits near the root are often
     // uneven, and more, smaller subtrees balance the cores.
@@ -379,9 +517,7 @@ Bvh buildBvh(const std::vector<Vec3>& vertices)
     bvh.sahCost = rootArea > 0 ? sahCost(root) / rootArea : 0;
     bvh.triangleOrder.resize(count);
     for (size_t i = 0; i < count; ++i) bvh.triangleOrder[i] = tris[i].index();
-    bvh.nodes.reserve(count / 8 + 1);
-    bvh.packets.reserve(count / 2 + 1);
-    Collapser(vertices, bvh).collapse(root);
+    collapse(vertices, root, bvh);
     bvh.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return bvh;
 }

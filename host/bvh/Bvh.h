@@ -7,25 +7,74 @@
 #include "../Vec3.h"
 
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace wv {
 
+// The allocator of the build's large arrays. resize() leaves new elements
+// default-initialized (for these plain structs: unwritten), so an array is not
+// zero-filled by one thread before the build's threads write it; and arrays of
+// 2 MiB or more ask Linux for transparent huge pages, which cut the build's
+// page faults (one per 4 KiB page otherwise: about a third of a 1M-triangle
+// build's time on a virtual machine).
+void* allocateLargeArray(size_t bytes); // freed by std::free; throws std::bad_alloc
+
+template <typename T>
+struct LargeArrayAllocator {
+    using value_type = T;
+    LargeArrayAllocator() = default;
+    template <typename U>
+    LargeArrayAllocator(const LargeArrayAllocator<U>&) noexcept
+    {
+    }
+    T* allocate(size_t n) { return static_cast<T*>(allocateLargeArray(n * sizeof(T))); }
+    void deallocate(T* p, size_t) noexcept { std::free(p); }
+    template <typename U, typename... Args>
+    void construct(U* p, Args&&... args)
+    {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+    template <typename U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value)
+    {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <typename U>
+    bool operator==(const LargeArrayAllocator<U>&) const noexcept { return true; }
+    template <typename U>
+    bool operator!=(const LargeArrayAllocator<U>&) const noexcept { return false; }
+};
+
+template <typename T>
+using LargeArray = std::vector<T, LargeArrayAllocator<T>>;
+
 struct Bvh {
-    std::vector<BvhNode> nodes; // the root first
-    std::vector<TrianglePacket> packets;
+    LargeArray<BvhNode> nodes; // the root first
+    LargeArray<TrianglePacket> packets;
     // triangleOrder[i] is the scene triangle stored at BVH position i.
     std::vector<uint32_t> triangleOrder;
     int depth = 0;          // levels of wide nodes
-    double sahCost = 0;     // of the binary tree per ray into the root's box: traversal step 1, triangle test 1
+    // Of the binary tree the wide one is collapsed from (leaves of at most
+    // TRIANGLE_PACKET_WIDTH triangles, or more where SAH says so), per ray into
+    // the root's box: traversal step 1, triangle test 1.
+    double sahCost = 0;
     double buildSeconds = 0;
 };
 
 // `vertices` holds three vertices per triangle. Throws if there are none.
 Bvh buildBvh(const std::vector<Vec3>& vertices);
 
-// Appends packets of BVH positions [begin, begin + count), in order; the
-// vertices of position i are vertices[3 · order[i] + k].
+// Writes the packets of BVH positions [begin, begin + count), in order, to
+// out[0, ceil(count / TRIANGLE_PACKET_WIDTH)); the vertices of position i are
+// vertices[3 · order[i] + k].
+void writePackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
+                  uint32_t count, TrianglePacket* out);
+
+// Appends the packets of BVH positions [begin, begin + count) (writePackets).
 void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
                    uint32_t count, std::vector<TrianglePacket>& packets);
 
