@@ -5,6 +5,7 @@
 // lookup is constant (the image's corner blocks), in the right corners.
 #include "Error.h"
 #include "TestDevices.h"
+#include "TestQuad.h"
 #include "TestRendering.h"
 #include "scene/GltfLoader.h"
 
@@ -12,9 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <unistd.h>
 
 namespace wv {
@@ -48,8 +47,7 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
 
-    // The quad [-1, 1]² in z = 0 facing +z, its texture's (0, 0) at the top
-    // left (−1, 1); a camera at z = 3 whose image is exactly the quad.
+    // The quad of test::writeQuad, its texture's (0, 0) at the top left (−1, 1).
     std::string writeQuad(const std::string& name, json textureInfo, const json& sampler, bool uvs = true)
     {
         return writeQuadWith(name, {{"baseColorTexture", textureInfo}, {"metallicFactor", 0.0}}, sampler, uvs);
@@ -59,46 +57,14 @@ protected:
     // 0 is texture.png, texture 1 mr.png.
     std::string writeQuadWith(const std::string& name, const json& pbr, const json& sampler, bool uvs = true)
     {
-        float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
-        float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
-        uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
-        std::vector<unsigned char> bin(48 + 32 + 12);
-        std::memcpy(bin.data(), pos, 48);
-        std::memcpy(bin.data() + 48, uv, 32);
-        std::memcpy(bin.data() + 80, idx, 12);
-        std::ofstream(dir_ / (name + ".bin"), std::ios::binary).write(reinterpret_cast<const char*>(bin.data()),
-                                                                    std::streamsize(bin.size()));
-        json attributes = {{"POSITION", 0}};
-        if (uvs) attributes["TEXCOORD_0"] = 1;
-        json g = {
-            {"asset", {{"version", "2.0"}}},
-            {"scene", 0},
-            {"scenes", {{{"nodes", {0, 1}}}}},
-            {"nodes", {{{"mesh", 0}}, {{"camera", 0}, {"translation", {0, 0, 3}}}}},
-            {"cameras", {{{"type", "perspective"},
-                          {"perspective", {{"yfov", 2 * std::atan(1.0 / 3)}, {"aspectRatio", 1}, {"znear", 0.01}}}}}},
-            {"meshes", {{{"primitives", {{{"attributes", attributes}, {"indices", 2}, {"material", 0}}}}}}},
-            // Pure Lambert (no specular layer): under a uniform background it reflects base colour × L.
-            {"extensionsUsed", {"KHR_materials_specular"}},
-            {"materials",
-             {{{"pbrMetallicRoughness", pbr},
-               {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}}}},
-            {"textures", {{{"source", 0}, {"sampler", 0}}, {{"source", 1}, {"sampler", 0}}}},
-            {"samplers", {sampler}},
-            {"images", {{{"uri", "texture.png"}}, {{"uri", "mr.png"}}}},
-            {"buffers", {{{"byteLength", bin.size()}, {"uri", name + ".bin"}}}},
-            {"bufferViews",
-             {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
-              {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 32}},
-              {{"buffer", 0}, {"byteOffset", 80}, {"byteLength", 12}}}},
-            {"accessors",
-             {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}, {"min", {-1, -1, 0}},
-               {"max", {1, 1, 0}}},
-              {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
-              {{"bufferView", 2}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}}};
-        fs::path path = dir_ / (name + ".gltf");
-        std::ofstream(path) << g.dump();
-        return path.string();
+        test::QuadFile quad;
+        // Pure Lambert (no specular layer): under a uniform background it reflects base colour × L.
+        quad.material = {{"pbrMetallicRoughness", pbr},
+                         {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}};
+        quad.images = {"texture.png", "mr.png"};
+        quad.sampler = sampler;
+        quad.uvs = uvs;
+        return test::writeQuad(dir_, name, quad);
     }
 
     fs::path dir_;

@@ -44,11 +44,14 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     std::vector<std::array<float, 4>> vertices(3 * count), normals(scene.normals.empty() ? 1 : 3 * count);
     std::vector<int> triMaterial(count);
     std::vector<float> uvs(scene.uvs.empty() ? 2 : 6 * count, 0.0f); // BVH order, like the vertices
+    std::vector<std::array<float, 4>> tangents(scene.tangents.empty() ? 1 : 3 * count);
     for (size_t i = 0; i < count; ++i) {
         uint32_t t = bvh.triangleOrder[i];
         triMaterial[i] = scene.triangleMaterial[t];
         if (!scene.uvs.empty())
             for (int k = 0; k < 6; ++k) uvs[6 * i + size_t(k)] = scene.uvs[6 * size_t(t) + size_t(k)];
+        if (!scene.tangents.empty())
+            for (int k = 0; k < 3; ++k) tangents[3 * i + size_t(k)] = scene.tangents[3 * size_t(t) + size_t(k)];
         for (int k = 0; k < 3; ++k) {
             const Vec3& v = scene.vertices[3 * t + k];
             vertices[3 * i + k] = {v.x, v.y, v.z, 0.0f};
@@ -98,6 +101,7 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     textureTexels = upload(texels, "the textures");
     textures = upload(textureTable, "the texture table");
     triUVs = upload(uvs, "the texture coordinates");
+    triTangents = upload(tangents, "the tangents");
     const EnvironmentLight& env = lightTable.environment;
     auto nonEmpty = [](std::vector<float> v, size_t n) { // OpenCL buffers cannot be empty
         if (v.empty()) v.assign(n, 0.0f);
@@ -125,6 +129,7 @@ void SceneBuffers::bind(KernelBuffers& b) const
     b.textureTexels = textureTexels;
     b.textures = textures;
     b.triUVs = triUVs;
+    b.triTangents = triTangents;
     b.envRadiance = envRadiance;
     b.envMarginalCdf = envMarginalCdf;
     b.envConditionalCdf = envConditionalCdf;

@@ -57,6 +57,54 @@ Vec3 transformNormal(const Mat4& m, Vec3 n)
     return det < 0 ? -out : out;
 }
 
+// Per-vertex tangents of an indexed triangle list for its normal map: x, y, z
+// along +u and the handedness w = ±1 such that cross(normal, tangent)·w points
+// along −v, which is "up" in the texture image, the +Y of glTF's normal
+// textures. Each vertex sums the ∂p/∂u and −∂p/∂v of its triangles, weighted
+// by their areas (Lengyel's method; MikkTSpace, which the glTF specification
+// recommends, also splits vertices where the sums would cancel, and that is not
+// done here). A vertex without usable texture coordinates gets some direction
+// perpendicular to its normal. `normals` may be empty: the triangles' normals
+// are summed instead.
+std::vector<float> generateTangents(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                                    const std::vector<float>& uvs, const std::vector<uint32_t>& indices)
+{
+    size_t n = positions.size();
+    std::vector<Vec3> alongU(n, Vec3(0, 0, 0)), upV(n, Vec3(0, 0, 0)), faceNormals(n, Vec3(0, 0, 0));
+    for (size_t i = 0; i + 2 < indices.size(); i += 3) {
+        uint32_t a = indices[i], b = indices[i + 1], c = indices[i + 2];
+        Vec3 e1 = positions[b] - positions[a], e2 = positions[c] - positions[a];
+        Vec3 area2 = cross(e1, e2);
+        for (uint32_t v : {a, b, c}) faceNormals[v] = faceNormals[v] + area2;
+        if (uvs.empty()) continue;
+        float du1 = uvs[2 * b] - uvs[2 * a], dv1 = uvs[2 * b + 1] - uvs[2 * a + 1];
+        float du2 = uvs[2 * c] - uvs[2 * a], dv2 = uvs[2 * c + 1] - uvs[2 * a + 1];
+        float det = du1 * dv2 - du2 * dv1;
+        // e1 = du1 ∂p/∂u + dv1 ∂p/∂v, e2 likewise: solved for the two derivatives.
+        Vec3 dpdu = (e1 * dv2 - e2 * dv1) * (1.0f / det), dpdv = (e2 * du1 - e1 * du2) * (1.0f / det);
+        float lu = length(dpdu), lv = length(dpdv), weight = length(area2);
+        if (det == 0.0f || !(lu > 0.0f) || !(lv > 0.0f) || !std::isfinite(lu * lv)) continue;
+        for (uint32_t v : {a, b, c}) {
+            alongU[v] = alongU[v] + dpdu * (weight / lu);
+            upV[v] = upV[v] - dpdv * (weight / lv);
+        }
+    }
+    std::vector<float> out(4 * n);
+    for (size_t v = 0; v < n; ++v) {
+        Vec3 normal = normals.empty() ? faceNormals[v] : normals[v];
+        Vec3 t = alongU[v] - normal * (dot(alongU[v], normal) / std::max(dot(normal, normal), 1e-30f));
+        if (!(length(t) > 1e-12f) || !isFinite(t)) // any perpendicular
+            t = cross(std::fabs(normal.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0), normal);
+        float len = length(t);
+        t = len > 0.0f ? t * (1.0f / len) : Vec3(1, 0, 0);
+        out[4 * v] = t.x;
+        out[4 * v + 1] = t.y;
+        out[4 * v + 2] = t.z;
+        out[4 * v + 3] = dot(cross(normal, t), upV[v]) < 0.0f ? -1.0f : 1.0f;
+    }
+    return out;
+}
+
 double determinant3(const Mat4& m)
 {
     Vec3 c0{float(m[0]), float(m[1]), float(m[2])}, c1{float(m[4]), float(m[5]), float(m[6])},
@@ -122,14 +170,14 @@ private:
     void loadBackground();
     void loadEnvironment(const tinygltf::Value& environment);
 
-    // 1 + the scene texture of glTF texture `index` as a base colour, 0
-    // (with a warning) when it cannot be used.
     // 1 + the scene texture of a material's texture `info`, 0 (with a
     // warning) when it cannot be used; `kind` names it ("base-colour"),
     // `srgb`: its values are sRGB-encoded colour (else linear data).
     int sceneTexture(const tinygltf::TextureInfo& info, const std::string& material, const char* kind, bool srgb);
 
-    // Reads `count` elements of an accessor as floats (VEC3) or indices.
+    // Reads an accessor's elements: `components` floats each (VECn), as
+    // Vec3, as texture coordinates, or as indices.
+    std::vector<float> readFloats(int accessorIndex, int components, const std::string& what);
     std::vector<Vec3> readVec3(int accessorIndex, const std::string& what);
     std::vector<float> readTexCoords(int accessorIndex, const std::string& what); // u, v per element
     std::vector<uint32_t> readIndices(int accessorIndex);
@@ -142,6 +190,7 @@ private:
     std::set<std::string> warned_;
     std::set<std::string> skippedModes_; // points and lines, for the error when nothing else is left
     int defaultMaterial_ = -1;
+    bool normalMaps_ = false; // some material has a normal texture: every triangle gets tangents
     DecodedImages images_;
     // (glTF texture, sRGB, uv transform) → 1 + index in scene_.textures
     std::map<std::tuple<int, bool, std::array<float, 6>>, int> sceneTexture_;
@@ -259,8 +308,10 @@ const tinygltf::Value* extension(const tinygltf::ExtensionMap& map, const char* 
 
 void Loader::loadMaterials()
 {
-    for (size_t i = 0; i < model_.materials.size(); ++i)
+    for (size_t i = 0; i < model_.materials.size(); ++i) {
         scene_.materials.push_back(convertMaterial(model_.materials[i], int(i)));
+        normalMaps_ = normalMaps_ || scene_.materials.back().normalTexture > 0;
+    }
 }
 
 float clamp01(double x) { return float(std::min(1.0, std::max(0.0, x))); }
@@ -351,8 +402,17 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
         out.baseColorTexture = sceneTexture(pbr.baseColorTexture, name, "base-colour", true);
     if (pbr.metallicRoughnessTexture.index >= 0)
         out.metallicRoughnessTexture = sceneTexture(pbr.metallicRoughnessTexture, name, "metallic-roughness", false);
-    if (m.normalTexture.index >= 0 || m.emissiveTexture.index >= 0 || m.occlusionTexture.index >= 0)
-        warnOnce(name + ": normal, emissive and occlusion textures are ignored");
+    if (m.normalTexture.index >= 0) {
+        tinygltf::TextureInfo info;
+        info.index = m.normalTexture.index;
+        info.texCoord = m.normalTexture.texCoord;
+        info.extensions = m.normalTexture.extensions;
+        out.normalTexture = sceneTexture(info, name, "normal", false);
+        out.normalScale = std::isfinite(m.normalTexture.scale) ? float(m.normalTexture.scale) : 1.0f;
+    }
+    if (m.emissiveTexture.index >= 0) warnOnce(name + ": emissive textures are ignored; the emissive factor is used");
+    if (m.occlusionTexture.index >= 0)
+        warnOnce(name + ": the occlusion texture is ignored (the renderer computes occlusion itself)");
     if (m.alphaMode != "OPAQUE" && !m.alphaMode.empty())
         warnOnce(name + ": alphaMode " + m.alphaMode + " is not supported; the surface is opaque");
 
@@ -545,12 +605,14 @@ const unsigned char* Loader::accessorData(const tinygltf::Accessor& a, size_t el
     return buffer.data.data() + view.byteOffset + a.byteOffset;
 }
 
-std::vector<Vec3> Loader::readVec3(int accessorIndex, const std::string& what)
+std::vector<float> Loader::readFloats(int accessorIndex, int components, const std::string& what)
 {
     if (accessorIndex < 0 || size_t(accessorIndex) >= model_.accessors.size())
         fail(what + ": accessor index " + std::to_string(accessorIndex) + " out of range");
     const tinygltf::Accessor& a = model_.accessors[accessorIndex];
-    if (a.type != TINYGLTF_TYPE_VEC3) fail(what + ": expected a VEC3");
+    const int type = components == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4;
+    const std::string name = components == 3 ? "VEC3" : "VEC4";
+    if (a.type != type) fail(what + ": expected a " + name);
     // Floats, or (KHR_mesh_quantization) 8- and 16-bit integers, as values
     // or normalized: unsigned c / (2^n − 1), signed max(c / (2^(n−1) − 1), −1).
     size_t size;
@@ -560,10 +622,10 @@ std::vector<Vec3> Loader::readVec3(int accessorIndex, const std::string& what)
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: size = 1; break;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: size = 2; break;
-    default: fail(what + ": VEC3 components must be floats, or 8- or 16-bit integers (KHR_mesh_quantization)");
+    default: fail(what + ": " + name + " components must be floats, or 8- or 16-bit integers (KHR_mesh_quantization)");
     }
     size_t stride;
-    const unsigned char* data = accessorData(a, 3 * size, &stride, what);
+    const unsigned char* data = accessorData(a, size_t(components) * size, &stride, what);
     auto component = [&](const unsigned char* p) -> float {
         switch (a.componentType) {
         case TINYGLTF_COMPONENT_TYPE_FLOAT: {
@@ -588,11 +650,17 @@ std::vector<Vec3> Loader::readVec3(int accessorIndex, const std::string& what)
         }
         }
     };
-    std::vector<Vec3> out(a.count);
-    for (size_t i = 0; i < a.count; ++i) {
-        const unsigned char* e = data + i * stride;
-        out[i] = Vec3(component(e), component(e + size), component(e + 2 * size));
-    }
+    std::vector<float> out(a.count * size_t(components));
+    for (size_t i = 0; i < a.count; ++i)
+        for (int c = 0; c < components; ++c) out[i * components + c] = component(data + i * stride + c * size);
+    return out;
+}
+
+std::vector<Vec3> Loader::readVec3(int accessorIndex, const std::string& what)
+{
+    std::vector<float> f = readFloats(accessorIndex, 3, what);
+    std::vector<Vec3> out(f.size() / 3);
+    for (size_t i = 0; i < out.size(); ++i) out[i] = Vec3(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
     return out;
 }
 
@@ -761,8 +829,19 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
         }
 
         const Material& used = scene_.materials[size_t(material)];
-        if (uvs.empty() && (used.baseColorTexture > 0 || used.metallicRoughnessTexture > 0))
+        if (uvs.empty() && (used.baseColorTexture > 0 || used.metallicRoughnessTexture > 0 || used.normalTexture > 0))
             warnOnce(what + ": a textured material without TEXCOORD_0; the texel at (0, 0) is used");
+        // Tangents (x, y, z, handedness) for a normal map: TANGENT, else made from the UVs.
+        std::vector<float> tangents;
+        if (used.normalTexture > 0) {
+            auto tan = prim.attributes.find("TANGENT");
+            if (tan != prim.attributes.end()) {
+                tangents = readFloats(tan->second, 4, what + " TANGENT");
+                if (tangents.size() != 4 * positions.size()) fail(what + ": TANGENT and POSITION counts differ");
+            } else {
+                tangents = generateTangents(positions, normals, uvs, indices);
+            }
+        }
 
         // Normals exist for every triangle once any primitive has them.
         bool hadNormals = !scene_.normals.empty();
@@ -773,6 +852,9 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             }
         }
         bool wantNormals = !normals.empty() || hadNormals;
+        // Tangents exist for every triangle (zero where no normal map reads them) once any material has a normal map.
+        bool wantTangents = normalMaps_;
+        float handedness = det < 0 ? -1.0f : 1.0f; // a mirroring transform turns the bitangent around
         for (size_t i = 0; i < indices.size(); i += 3) {
             Vec3 v[3];
             for (int k = 0; k < 3; ++k) v[k] = transformPoint(world, positions[indices[i + corner[k]]]);
@@ -781,6 +863,16 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             for (int k = 0; k < 3; ++k) // (0, 0) without TEXCOORD_0; dropped unless the scene has textures
                 for (int c = 0; c < 2; ++c)
                     scene_.uvs.push_back(uvs.empty() ? 0.0f : uvs[2 * size_t(indices[i + corner[k]]) + size_t(c)]);
+            for (int k = 0; wantTangents && k < 3; ++k) {
+                std::array<float, 4> t{0, 0, 0, 0};
+                if (!tangents.empty()) {
+                    const float* in = &tangents[4 * size_t(indices[i + corner[k]])];
+                    Vec3 d = transformVector(world, Vec3(in[0], in[1], in[2]));
+                    float len = length(d);
+                    if (len > 0.0f && std::isfinite(len)) t = {d.x / len, d.y / len, d.z / len, in[3] < 0 ? -handedness : handedness};
+                }
+                scene_.tangents.push_back(t);
+            }
             if (!wantNormals) continue;
             Vec3 geometric = cross(v[1] - v[0], v[2] - v[0]);
             for (int k = 0; k < 3; ++k) {

@@ -29,6 +29,7 @@ SceneFeatures Scene::features() const
     }
     f.environmentMap = !environment.empty();
     f.textures = !textures.empty();
+    f.normalMaps = !tangents.empty();
     f.background = f.environmentMap || background.x > 0 || background.y > 0 || background.z > 0;
     return f;
 }
@@ -55,6 +56,7 @@ std::string SceneFeatures::buildOptions() const
     if (background) o += " -DHAS_BACKGROUND";
     if (environmentMap) o += " -DHAS_ENVIRONMENT_MAP";
     if (textures) o += " -DHAS_TEXTURES";
+    if (normalMaps) o += " -DHAS_NORMAL_MAPS";
     return o;
 }
 

@@ -60,6 +60,7 @@ struct SceneFeatures {
     bool background = false;
     bool environmentMap = false; // the background's radiance comes from a map
     bool textures = false;       // some material has a texture
+    bool normalMaps = false;     // some material has a normal texture (Scene::tangents)
 
     std::string buildOptions() const;
 };
@@ -76,10 +77,15 @@ struct Scene {
     std::vector<Light> lights; // punctual lights only; see render/LightTable.h
     Vec3 background{0, 0, 0}; // uniform background radiance (scene extras.background)
     EnvironmentMap environment; // replaces the uniform background when it has texels
-    std::vector<Texture> textures; // Material::baseColorTexture and ::metallicRoughnessTexture
+    std::vector<Texture> textures; // Material::baseColorTexture, ::metallicRoughnessTexture, ::normalTexture
     // TEXCOORD_0 of every triangle's corners (u, v per corner: 6 floats per
     // triangle) when the scene has textures, else empty.
     std::vector<float> uvs;
+    // Tangent frames of every triangle's corners for normal maps (three per
+    // triangle: x, y, z along +u, handedness w = ±1, the bitangent being
+    // cross(n, t)·w), zero where the material has none; empty when no
+    // material has a normal map.
+    std::vector<std::array<float, 4>> tangents;
     CameraView camera;         // the one rendered: the file's first perspective camera by default
     bool cameraFromFile = false;
     std::vector<CameraView> cameras; // every perspective camera of the file, in node order (--camera N)

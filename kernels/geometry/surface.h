@@ -51,10 +51,20 @@ typedef struct SurfaceHit {
     bool frontSide;   /* w is on the side the geometric normal points to */
 } SurfaceHit;
 
+/* Makes ns (a unit normal on the side the file's normals face) h's shading
+ * normal, turned to w's side as the geometric one is, and sets the frame
+ * around it. A shading normal on the other side of the surface from w than
+ * the geometric one is unusable: h keeps the normal it has. */
+INLINE void set_shading_normal(SurfaceHit* h, vec3 ns, vec3 w)
+{
+    ns = h->frontSide ? ns : v3_neg(ns);
+    h->nsF = v3_dot(ns, w) > 0.0f ? ns : h->nsF;
+    h->frame = frame_from_normal(h->nsF);
+}
+
 /* The hit on triangle `tri` at barycentrics `bary`, seen from direction w
- * (pointing away from the surface). A shading normal on the other side of
- * the surface from w than the geometric one is unusable; the geometric
- * normal replaces it. */
+ * (pointing away from the surface), shaded with the interpolated vertex
+ * normal where the scene has them (the geometric normal otherwise). */
 INLINE SurfaceHit surface_hit(__global const float4* triVertices, __global const float4* triNormals, int tri,
                               vec2 bary, vec3 w)
 {
@@ -67,11 +77,10 @@ INLINE SurfaceHit surface_hit(__global const float4* triVertices, __global const
     h.ngF = h.frontSide ? ng : v3_neg(ng);
     h.nsF = h.ngF;
 #ifdef HAS_VERTEX_NORMALS
-    vec3 ns = shading_normal(triNormals, tri, bary, ng);
-    ns = h.frontSide ? ns : v3_neg(ns);
-    h.nsF = v3_dot(ns, w) > 0.0f ? ns : h.nsF;
-#endif
+    set_shading_normal(&h, shading_normal(triNormals, tri, bary, ng), w);
+#else
     h.frame = frame_from_normal(h.nsF);
+#endif
     return h;
 }
 

@@ -82,7 +82,8 @@ typedef struct Material {
     float attenuationDistance; /* KHR_materials_volume; 0 = no absorption */
     int baseColorTexture;      /* 1 + its index in the texture table; 0: none (baseColor alone) */
     int metallicRoughnessTexture; /* the same; its G scales roughness, its B metallic (linear) */
-    int pad[2];
+    int normalTexture;         /* the same; tangent-space normals (materials/normal_map.h) */
+    float normalScale;         /* glTF normalTexture.scale: the map's x and y times this */
 } Material;
 
 /* How a texture repeats outside [0, 1] (glTF sampler wrapS / wrapT). */

@@ -37,6 +37,14 @@ INLINE vec3 texture_bilinear(__global const float4* texels, __global const Textu
     return v3_add(v3_scale(top, 1.0f - ay), v3_scale(bottom, ay));
 }
 
+/* TEXCOORD_0 at barycentrics `bary` of triangle `tri`. */
+INLINE vec2 surface_uv(__global const float2* triUVs, int tri, vec2 bary)
+{
+    vec2 t0 = load_vec2(triUVs, 3 * tri), t1 = load_vec2(triUVs, 3 * tri + 1), t2 = load_vec2(triUVs, 3 * tri + 2);
+    float b0 = 1.0f - bary.x - bary.y;
+    return v2(b0 * t0.x + bary.x * t1.x + bary.y * t2.x, b0 * t0.y + bary.x * t1.y + bary.y * t2.y);
+}
+
 /* What material m is on triangle `tri` at barycentrics `bary`: its factors
  * times its textures at the point's TEXCOORD_0 — the base-colour texture's
  * RGB, the metallic-roughness texture's B (metallic) and G (roughness). */
@@ -46,9 +54,8 @@ INLINE SurfaceMaterial surface_material(__global const Material* m, __global con
 {
     SurfaceMaterial s = material_factors(m);
 #ifdef HAS_TEXTURES
-    vec2 t0 = load_vec2(triUVs, 3 * tri), t1 = load_vec2(triUVs, 3 * tri + 1), t2 = load_vec2(triUVs, 3 * tri + 2);
-    float b0 = 1.0f - bary.x - bary.y;
-    float u = b0 * t0.x + bary.x * t1.x + bary.y * t2.x, v = b0 * t0.y + bary.x * t1.y + bary.y * t2.y;
+    vec2 uv = surface_uv(triUVs, tri, bary);
+    float u = uv.x, v = uv.y;
     if (m->baseColorTexture > 0)
         s.baseColor = v3_mul(s.baseColor, texture_bilinear(texels, &textures[m->baseColorTexture - 1], u, v));
     if (m->metallicRoughnessTexture > 0) {

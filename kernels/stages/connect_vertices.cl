@@ -47,7 +47,7 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
             continue; /* vertices go from the deepest back: shallower ones may still fit */
         vec3 toLight = load3(lv->toLight);
         vec2 lightBary = v2(lv->b1, lv->b2);
-        SurfaceHit lightHit = surface_hit(triVertices, triNormals, lv->triangle, lightBary, toLight);
+        SurfaceHit lightHit = scene_surface_hit(&b, lv->triangle, lightBary, toLight);
         if (!connection_resolved(cv.hit.p, cv.hit.pError, cv.hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF))
             continue;
         vec3 d = v3_sub(lightHit.p, cv.hit.p);

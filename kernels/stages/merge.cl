@@ -4,7 +4,8 @@
  * each merge adds f · throughput_light / (π r² N_light), weighted against all
  * other techniques with dVCM and dVM (eqs. 37-39; ppm: weight 1). It runs
  * before `shade`, which then moves the path on. No cosine at the camera
- * vertex: the light vertices' density on the surface already carries it.
+ * vertex: the light vertices' density on the surface already carries it
+ * (with a shading normal, the ratio of its cosine to the geometric one).
  * Each candidate is one cache line (MergeVertex), its bucket's candidates
  * one after another. */
 #include "core/nan_policy.h"
@@ -54,6 +55,12 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
             vec3 toLightL = to_local(&cv.hit.frame, toLight);
             if (!sides_agree(&cv.hit, toLight, toLightL))
                 continue;
+            /* The light vertices' density per area carries the geometric
+             * cosine |ng·ωi|; the camera vertex integrates f |ns·ωi| dωi. */
+            float cosGeometric = fabs(v3_dot(toLight, cv.hit.ngF));
+            if (!(cosGeometric > 0.0f))
+                continue;
+            float shadingFactor = fabs(toLightL.z) / cosGeometric;
             float pdfFwd, pdfRev;
             vec3 f = bsdf_eval(&cv.bsdf, cv.woL, toLightL, false, &pdfFwd, &pdfRev);
             if (!(max_component(f) > 0.0f))
@@ -64,7 +71,7 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
             w = mis_weight_merge(lightMis, cv.mis, pdfFwd * cv.continuation, pdfRev * lv->continuation,
                                  params.vcWeightFactor);
 #endif
-            sum = v3_add(sum, v3_mul(v3_scale(f, w), load3(lv->throughput)));
+            sum = v3_add(sum, v3_mul(v3_scale(f, w * shadingFactor), load3(lv->throughput)));
         }
     }
     int rejected = 0;

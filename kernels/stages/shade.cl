@@ -32,7 +32,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
     int tri = b->hitTriangle[slot];
     vec3 wo = v3_neg(load_vec3(b->rayDirections, slot));
     vec2 bary = load_vec2(b->hitBary, slot);
-    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, bary, wo);
+    SurfaceHit hit = scene_surface_hit(b, tri, bary, wo);
     int depth = hit_depth(b->pathDepth, slot);
     int pixel = b->pathPixel[slot];
     vec3 beta = load_vec3(b->pathThroughput, slot);

@@ -36,7 +36,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
     int tri = b->hitTriangle[slot];
     vec3 wo = v3_neg(load_vec3(b->rayDirections, slot));
     vec2 bary = load_vec2(b->hitBary, slot);
-    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, bary, wo);
+    SurfaceHit hit = scene_surface_hit(b, tri, bary, wo);
     vec3 woL = to_local(&hit.frame, wo);
     int depth = hit_depth(b->pathDepth, slot);
     int pixel = b->pathPixel[slot];

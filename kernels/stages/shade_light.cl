@@ -42,7 +42,7 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     int tri = b->hitTriangle[slot];
     vec2 bary = load_vec2(b->hitBary, slot);
     vec3 wLight = v3_neg(load_vec3(b->rayDirections, slot)); /* back along the light path */
-    SurfaceHit hit = surface_hit(b->triVertices, b->triNormals, tri, bary, wLight);
+    SurfaceHit hit = scene_surface_hit(b, tri, bary, wLight);
     vec3 wLightL = to_local(&hit.frame, wLight);
     int depth = hit_depth(b->pathDepth, slot);
     int lightPath = b->pathPixel[slot];

@@ -25,7 +25,7 @@ INLINE CameraVertex camera_vertex(const RenderBuffers* b, int slot)
     int tri = b->hitTriangle[slot];
     vec3 wo = v3_neg(load_vec3(b->rayDirections, slot));
     vec2 bary = load_vec2(b->hitBary, slot);
-    v.hit = surface_hit(b->triVertices, b->triNormals, tri, bary, wo);
+    v.hit = scene_surface_hit(b, tri, bary, wo);
     v.woL = to_local(&v.hit.frame, wo);
     v.bsdf = surface_bsdf(b, tri, bary, v.woL, v.hit.frontSide);
     v.mis = load_mis(b->pathMis, slot);

@@ -1,0 +1,40 @@
+/* Normal maps (glTF normalTexture). A texel's RGB c in [0, 1] is the normal
+ * 2c − 1 in the surface's tangent frame, its x and y times the material's
+ * normalScale: x along the tangent t (+u), y along the bitangent
+ * cross(n, t)·w (−v: "up" in the texture image), z along the unmapped
+ * shading normal n. Tangents and handedness w come per triangle corner from
+ * the file's TANGENT or from the texture coordinates (host/scene/GltfLoader.cpp). */
+#ifndef WAVEVCM_NORMAL_MAP_H
+#define WAVEVCM_NORMAL_MAP_H
+
+#include "core/vec3.h"
+#include "interface/inline.h"
+#include "interface/kernel_interface.h"
+#include "materials/texture.h"
+
+/* The normal that material m's normal map makes of the unit normal n at
+ * barycentrics `bary` of triangle `tri` (all on the side the file's normals
+ * face); n itself where the tangent frame degenerates. */
+INLINE vec3 mapped_normal(const RenderBuffers* b, __global const Material* m, int tri, vec2 bary, vec3 n)
+{
+    float b0 = 1.0f - bary.x - bary.y;
+    vec3 t = v3_add(v3_add(v3_scale(load_vec3(b->triTangents, 3 * tri), b0),
+                           v3_scale(load_vec3(b->triTangents, 3 * tri + 1), bary.x)),
+                    v3_scale(load_vec3(b->triTangents, 3 * tri + 2), bary.y));
+    t = v3_sub(t, v3_scale(n, v3_dot(n, t))); /* Gram-Schmidt: the interpolated tangent need not be ⊥ n */
+    float tLength = v3_length(t);
+    if (!(tLength > 1e-12f))
+        return n;
+    t = v3_div(t, tLength);
+    float handedness = b->triTangents[3 * tri].w < 0.0f ? -1.0f : 1.0f;
+    vec3 bitangent = v3_scale(v3_cross(n, t), handedness);
+    vec2 uv = surface_uv(b->triUVs, tri, bary);
+    vec3 c = texture_bilinear(b->textureTexels, &b->textures[m->normalTexture - 1], uv.x, uv.y);
+    vec3 mapped = v3_add(v3_add(v3_scale(t, (2.0f * c.x - 1.0f) * m->normalScale),
+                                v3_scale(bitangent, (2.0f * c.y - 1.0f) * m->normalScale)),
+                         v3_scale(n, 2.0f * c.z - 1.0f));
+    float length = v3_length(mapped);
+    return length > 1e-12f ? v3_div(mapped, length) : n;
+}
+
+#endif
