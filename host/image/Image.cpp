@@ -94,6 +94,14 @@ void writeImage(const std::string& path, const Image& image)
         out = OIIO::ImageBufAlgo::colorconvert(out, "linear", "sRGB");
         if (out.has_error()) throw Error(path + ": colour conversion failed: " + out.geterror());
     }
+    if (!image.alpha.empty() && (ext == ".png" || ext == ".exr")) { // alpha as stored, never sRGB-encoded
+        OIIO::ImageBuf alpha(OIIO::ImageSpec(image.width, image.height, 1, OIIO::TypeDesc::FLOAT),
+                             const_cast<float*>(image.alpha.data()));
+        out = OIIO::ImageBufAlgo::channel_append(out, OIIO::ImageBufAlgo::clamp(alpha, 0.0f, 1.0f));
+        if (out.has_error()) throw Error(path + ": cannot add the alpha channel: " + out.geterror());
+        out.specmod().channelnames = {"R", "G", "B", "A"};
+        out.specmod().alpha_channel = 3;
+    }
     std::filesystem::path tmp = partialPath(path);
     bool written = ext == ".pfm" ? writePfm(tmp.string(), image)
                                  : out.write(tmp.string(), eightBit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
@@ -152,7 +160,13 @@ Image decodeImage(const unsigned char* data, size_t size, const std::string& nam
     if (size >= 3 && data[0] == 0xFF && data[1] == 0xD8 && data[2] == 0xFF) format = "image.jpg";
     if (!format) throw Error(name + ": not a PNG or JPEG image");
     OIIO::Filesystem::IOMemReader memory(const_cast<unsigned char*>(data), size);
-    auto input = OIIO::ImageInput::open(format, nullptr, &memory);
+    // Colour as stored: glTF's RGBA is not premultiplied, and OpenImageIO
+    // would otherwise multiply colour by alpha on reading.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    void* proxy = &memory; // with a config, OpenImageIO takes the memory reader from it
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    auto input = OIIO::ImageInput::open(format, &config, &memory);
     if (!input) throw Error(name + ": cannot decode image: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = input->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw Error(name + ": image has no pixels");
@@ -163,6 +177,10 @@ Image decodeImage(const unsigned char* data, size_t size, const std::string& nam
     int channels = spec.nchannels;
     for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
         for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = pixels[p * channels + (channels >= 3 ? c : 0)]; // grey(+alpha)
+    if (channels == 2 || channels == 4) {
+        image.alpha.resize(size_t(spec.width) * spec.height);
+        for (size_t p = 0; p < image.alpha.size(); ++p) image.alpha[p] = pixels[p * channels + size_t(channels - 1)];
+    }
     return image;
 }
 

@@ -10,13 +10,14 @@ namespace wv {
 struct Image {
     int width = 0, height = 0;
     std::vector<float> rgb; // width × height × 3, row 0 at the top, linear radiance
+    std::vector<float> alpha; // width × height where the image has an alpha channel (textures), else empty
 
     Image() = default;
     Image(int w, int h) : width(w), height(h), rgb(size_t(w) * size_t(h) * 3, 0.0f) {}
 };
 
 // By extension: .exr (32-bit float, linear), .hdr, .pfm (float), .png/.jpg
-// (8-bit, sRGB-encoded). Written to a temporary name beside `path` and renamed,
+// (8-bit, sRGB-encoded); .png and .exr with the alpha channel if the image has one. Written to a temporary name beside `path` and renamed,
 // so a failed or interrupted write never leaves a partial file.
 void writeImage(const std::string& path, const Image& image);
 
@@ -34,8 +35,8 @@ void checkWritable(const std::string& path);
 Image readImage(const std::string& path);
 
 // A PNG or JPEG file's bytes held in memory (a glTF image), decoded: its
-// values as stored (sRGB-encoded for colour), in [0, 1]. `name` names it in
-// errors.
+// values as stored (sRGB-encoded for colour), in [0, 1], with its alpha
+// channel if it has one (grey + alpha, RGBA). `name` names it in errors.
 Image decodeImage(const unsigned char* data, size_t size, const std::string& name);
 
 // The sRGB transfer function's inverse, per channel (textures' colours).

@@ -92,8 +92,9 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
         info.wrapT = t.wrapT;
         for (int k = 0; k < 6; ++k) info.uvTransform[k] = t.uvTransform[size_t(k)];
         textureTable.push_back(info);
-        for (size_t p = 0; p < t.image.rgb.size() / 3; ++p)
-            texels.push_back({t.image.rgb[3 * p], t.image.rgb[3 * p + 1], t.image.rgb[3 * p + 2], 0.0f});
+        for (size_t p = 0; p < t.image.rgb.size() / 3; ++p) // alpha in w (1 where the image has none)
+            texels.push_back({t.image.rgb[3 * p], t.image.rgb[3 * p + 1], t.image.rgb[3 * p + 2],
+                              t.image.alpha.empty() ? 1.0f : t.image.alpha[p]});
     }
     if (texels.size() > size_t(INT32_MAX)) throw Error("the textures have more than 2^31 texels");
     if (texels.empty()) texels.push_back({0, 0, 0, 0}); // OpenCL buffers cannot be empty

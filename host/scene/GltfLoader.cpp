@@ -413,8 +413,15 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     if (m.emissiveTexture.index >= 0) warnOnce(name + ": emissive textures are ignored; the emissive factor is used");
     if (m.occlusionTexture.index >= 0)
         warnOnce(name + ": the occlusion texture is ignored (the renderer computes occlusion itself)");
-    if (m.alphaMode != "OPAQUE" && !m.alphaMode.empty())
-        warnOnce(name + ": alphaMode " + m.alphaMode + " is not supported; the surface is opaque");
+    // alphaMode: MASK cuts out where alpha < alphaCutoff, BLEND lets a ray
+    // through with probability 1 − alpha (materials/alpha.h); alpha is
+    // baseColorFactor's times the base-colour texture's.
+    out.baseColorAlpha = clamp01(pbr.baseColorFactor.size() == 4 ? pbr.baseColorFactor[3] : 1.0);
+    out.alphaCutoff = float(std::isfinite(m.alphaCutoff) ? m.alphaCutoff : 0.5);
+    if (m.alphaMode == "MASK") out.alphaMode = ALPHA_MASK;
+    else if (m.alphaMode == "BLEND") out.alphaMode = ALPHA_BLEND;
+    else if (m.alphaMode != "OPAQUE" && !m.alphaMode.empty())
+        fail(name + ": unknown alphaMode '" + m.alphaMode + "' (OPAQUE, MASK or BLEND)");
 
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_emissive_strength")) {
         double strength = std::max(0.0, number(*e, "emissiveStrength", 1.0));
@@ -731,6 +738,7 @@ int glTFDefaultMaterial(Scene& scene)
     m.specular = 1;
     m.ior = 1.5f;
     m.thinWalled = 1;
+    m.baseColorAlpha = 1;
     m.lobes = LOBE_GGX_REFLECTION;
     scene.materials.push_back(m);
     return int(scene.materials.size()) - 1;

@@ -21,6 +21,7 @@ SceneFeatures Scene::features() const
         f.lobes |= materials[m].lobes;
         const float* e = materials[m].emission;
         if (e[0] > 0 || e[1] > 0 || e[2] > 0) f.emissiveTriangles = true;
+        if (materials[m].alphaMode != ALPHA_OPAQUE) f.alphaTest = true;
     }
     for (const Light& l : lights) {
         f.pointLights |= l.type == LIGHT_POINT;
@@ -57,6 +58,7 @@ std::string SceneFeatures::buildOptions() const
     if (environmentMap) o += " -DHAS_ENVIRONMENT_MAP";
     if (textures) o += " -DHAS_TEXTURES";
     if (normalMaps) o += " -DHAS_NORMAL_MAPS";
+    if (alphaTest) o += " -DHAS_ALPHA_TEST";
     return o;
 }
 

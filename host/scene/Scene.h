@@ -16,7 +16,7 @@ namespace wv {
 static_assert(sizeof(BvhNode) == 7 * 4 * BVH_WIDTH, "BvhNode layout");
 static_assert(sizeof(TrianglePacket) == 40 * TRIANGLE_PACKET_WIDTH, "TrianglePacket layout");
 static_assert(sizeof(Camera) == 64, "Camera layout");
-static_assert(sizeof(Material) == 96, "Material layout");
+static_assert(sizeof(Material) == 112, "Material layout");
 static_assert(sizeof(TextureInfo) == 48, "TextureInfo layout");
 static_assert(sizeof(Light) == 64, "Light layout");
 static_assert(sizeof(SceneInfo) == 48, "SceneInfo layout");
@@ -61,6 +61,7 @@ struct SceneFeatures {
     bool environmentMap = false; // the background's radiance comes from a map
     bool textures = false;       // some material has a texture
     bool normalMaps = false;     // some material has a normal texture (Scene::tangents)
+    bool alphaTest = false;      // some material's alphaMode is MASK or BLEND: rays test alpha
 
     std::string buildOptions() const;
 };

@@ -7,8 +7,10 @@
 #define WAVEVCM_BVH_TRAVERSAL_H
 
 #include "interface/inline.h"
+#include "interface/kernel_interface.h"
 #include "interface/shared_types.h"
 #include "intersect_triangle.h"
+#include "materials/alpha.h"
 
 #if BVH_WIDTH == 8
 typedef float8 floatw;
@@ -76,9 +78,11 @@ INLINE void intersect_child_boxes(__global const BvhNode* node, const BoxRay* r,
 INLINE bool box_still_ahead(float enter, float tMax) { return enter <= tMax * 1.0000004f; }
 
 /* Returns whether anything was hit before ray.tMax. With anyHit the first hit
- * found ends the search and *hit holds that hit, not the closest. */
+ * found ends the search and *hit holds that hit, not the closest. `scene`
+ * (0 for none) gives the materials whose alpha decides where a ray stops
+ * (materials/alpha.h), in scenes with alpha-tested materials. */
 INLINE bool trace_ray(__global const BvhNode* nodes, __global const TrianglePacket* packets, Ray ray,
-                      bool anyHit, Hit* hit)
+                      bool anyHit, Hit* hit, const RenderBuffers* scene)
 {
     ShearedRay sheared = shear_ray(ray);
     BoxRay boxRay = box_ray(ray);
@@ -123,7 +127,15 @@ INLINE bool trace_ray(__global const BvhNode* nodes, __global const TrianglePack
             int first = (~item) >> 3, end = first + ((~item) & 7) + 1;
             for (int p = first; p < end; ++p) {
                 float t, b1, b2;
-                int lane = intersect_packet(&sheared, &packets[p], tMax, &t, &b1, &b2);
+                int lane = intersect_packet(&sheared, &packets[p], tMax, 0, &t, &b1, &b2);
+#ifdef HAS_ALPHA_TEST
+                /* A hit the surface's alpha lets through: the packet's next nearest. */
+                for (int excluded = 0; lane >= 0 && scene &&
+                                       !alpha_stops_ray(scene, packets[p].triangle[lane], b1, b2, ray);) {
+                    excluded |= 1 << lane;
+                    lane = intersect_packet(&sheared, &packets[p], tMax, excluded, &t, &b1, &b2);
+                }
+#endif
                 if (lane >= 0) {
                     tMax = t;
                     hit->t = t;

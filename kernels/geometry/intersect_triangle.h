@@ -59,10 +59,11 @@ INLINE float float4_lane(float4 v, int lane)
     return lane == 0 ? v.s0 : lane == 1 ? v.s1 : lane == 2 ? v.s2 : v.s3;
 }
 
-/* The nearest hit among the packet's triangles with 0 < t < tMax: returns
- * its lane, or -1, and sets *t, *b1, *b2 (barycentrics of v1 and v2). */
-INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* p, float tMax, float* t,
-                            float* b1, float* b2)
+/* The nearest hit among the packet's triangles with 0 < t < tMax, lanes
+ * whose bit (1 << lane) is set in `excluded` left out: returns its lane, or
+ * -1, and sets *t, *b1, *b2 (barycentrics of v1 and v2). */
+INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* p, float tMax, int excluded,
+                            float* t, float* b1, float* b2)
 {
     /* Vertices relative to the origin, sheared (§3, eqs. 2-3). */
     float4 Az = vload4(0, p->v[0][s->kz]) - s->oz;
@@ -93,7 +94,7 @@ INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* 
 #endif
     float4 det = U + V + W;
     int4 hit = !((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) && det != 0.0f &&
-               vload4(0, p->triangle) >= 0;
+               vload4(0, p->triangle) >= 0 && ((int4)(1, 2, 4, 8) & (int4)(excluded)) == (int4)(0);
     if (!any(hit))
         return -1;
 

@@ -84,7 +84,16 @@ typedef struct Material {
     int metallicRoughnessTexture; /* the same; its G scales roughness, its B metallic (linear) */
     int normalTexture;         /* the same; tangent-space normals (materials/normal_map.h) */
     float normalScale;         /* glTF normalTexture.scale: the map's x and y times this */
+    int alphaMode;             /* ALPHA_* (materials/alpha.h) */
+    float alphaCutoff;         /* MASK: opaque where alpha >= this */
+    float baseColorAlpha;      /* baseColorFactor's alpha; the base-colour texture's A multiplies it */
+    int pad;
 } Material;
+
+/* glTF alphaMode. */
+#define ALPHA_OPAQUE 0
+#define ALPHA_MASK 1
+#define ALPHA_BLEND 2
 
 /* How a texture repeats outside [0, 1] (glTF sampler wrapS / wrapT). */
 #define WRAP_REPEAT 0

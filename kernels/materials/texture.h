@@ -21,20 +21,49 @@ INLINE int wrap_texel(int i, int n, int mode)
     return mode == WRAP_CLAMP ? clamp(i, 0, n - 1) : m;
 }
 
-INLINE vec3 texture_bilinear(__global const float4* texels, __global const TextureInfo* t, float u0, float v0)
+/* The four texels a bilinear lookup at (u0, v0) blends, top row first, and
+ * its weights along x and y. */
+typedef struct TexelFootprint {
+    int top0, top1, bottom0, bottom1;
+    float ax, ay;
+} TexelFootprint;
+
+INLINE TexelFootprint texel_footprint(__global const TextureInfo* t, float u0, float v0)
 {
     float u = t->uvTransform[0] * u0 + t->uvTransform[1] * v0 + t->uvTransform[2];
     float v = t->uvTransform[3] * u0 + t->uvTransform[4] * v0 + t->uvTransform[5];
     /* Far outside [0, 1] only the wrap matters; keep the texel indices in int range. */
     float x = clamp(u, -1e6f, 1e6f) * (float)t->width - 0.5f, y = clamp(v, -1e6f, 1e6f) * (float)t->height - 0.5f;
     float fx = floor(x), fy = floor(y);
-    float ax = x - fx, ay = y - fy;
+    TexelFootprint f;
+    f.ax = x - fx;
+    f.ay = y - fy;
     int x0 = wrap_texel((int)fx, t->width, t->wrapS), x1 = wrap_texel((int)fx + 1, t->width, t->wrapS);
     int y0 = wrap_texel((int)fy, t->height, t->wrapT), y1 = wrap_texel((int)fy + 1, t->height, t->wrapT);
     int row0 = t->offset + y0 * t->width, row1 = t->offset + y1 * t->width;
-    vec3 top = v3_add(v3_scale(load_vec3(texels, row0 + x0), 1.0f - ax), v3_scale(load_vec3(texels, row0 + x1), ax));
-    vec3 bottom = v3_add(v3_scale(load_vec3(texels, row1 + x0), 1.0f - ax), v3_scale(load_vec3(texels, row1 + x1), ax));
-    return v3_add(v3_scale(top, 1.0f - ay), v3_scale(bottom, ay));
+    f.top0 = row0 + x0;
+    f.top1 = row0 + x1;
+    f.bottom0 = row1 + x0;
+    f.bottom1 = row1 + x1;
+    return f;
+}
+
+INLINE vec3 texture_bilinear(__global const float4* texels, __global const TextureInfo* t, float u0, float v0)
+{
+    TexelFootprint f = texel_footprint(t, u0, v0);
+    vec3 top = v3_add(v3_scale(load_vec3(texels, f.top0), 1.0f - f.ax), v3_scale(load_vec3(texels, f.top1), f.ax));
+    vec3 bottom =
+        v3_add(v3_scale(load_vec3(texels, f.bottom0), 1.0f - f.ax), v3_scale(load_vec3(texels, f.bottom1), f.ax));
+    return v3_add(v3_scale(top, 1.0f - f.ay), v3_scale(bottom, f.ay));
+}
+
+/* The texture's alpha (texel w; 1 where its image has no alpha channel). */
+INLINE float texture_alpha(__global const float4* texels, __global const TextureInfo* t, float u0, float v0)
+{
+    TexelFootprint f = texel_footprint(t, u0, v0);
+    float top = texels[f.top0].w * (1.0f - f.ax) + texels[f.top1].w * f.ax;
+    float bottom = texels[f.bottom0].w * (1.0f - f.ax) + texels[f.bottom1].w * f.ax;
+    return top * (1.0f - f.ay) + bottom * f.ay;
 }
 
 /* TEXCOORD_0 at barycentrics `bary` of triangle `tri`. */

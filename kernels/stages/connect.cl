@@ -13,13 +13,14 @@
 
 __kernel void connect(RENDER_KERNEL_PARAMS)
 {
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_ray(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0), shadowOrigins,
                  shadowDirections);
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
     if (slot < 0)
         return;
     Hit hit;
-    if (!trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
+    if (!trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit, &b))
         add_vec3(pixelRadiance, pathPixel[slot], load_vec3(shadowContribution, slot));
 }
 
@@ -38,13 +39,14 @@ INLINE void atomic_add_float(volatile __global float* p, float v)
 
 __kernel void connect_splat(RENDER_KERNEL_PARAMS)
 {
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_ray(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0), shadowOrigins,
                  shadowDirections);
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
     if (slot < 0)
         return;
     Hit hit;
-    if (trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit))
+    if (trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit, &b))
         return;
     vec3 c = load_vec3(shadowContribution, slot);
     volatile __global float* pixel = (volatile __global float*)(splatRadiance + shadowPixel[slot]);

@@ -83,7 +83,7 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
             continue;
         Hit occluder;
         Ray shadow = ray_between(cv.hit.p, cv.hit.pError, cv.hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF);
-        if (!trace_ray(nodes, trianglePackets, shadow, true, &occluder))
+        if (!trace_ray(nodes, trianglePackets, shadow, true, &occluder, &b))
             L = v3_add(L, c);
     }
     add_radiance(connectionRadiance, pixel, L, &rejected);

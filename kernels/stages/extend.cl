@@ -7,13 +7,14 @@
 __kernel void extend(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[8];
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_ray(queueItems, queueCounters, params.capacity, params.rayQueue, get_global_id(0), rayOrigins,
                  rayDirections);
     int slot = queue_item(queueItems, queueCounters, params.capacity, params.rayQueue, get_global_id(0));
     bool found = false;
     if (slot >= 0) {
         Hit hit;
-        found = trace_ray(nodes, trianglePackets, load_ray(rayOrigins, rayDirections, slot), false, &hit);
+        found = trace_ray(nodes, trianglePackets, load_ray(rayOrigins, rayDirections, slot), false, &hit, &b);
         hitTriangle[slot] = hit.triangle;
         hitT[slot] = found ? hit.t : INFINITY;
         store_vec2(hitBary, slot, v2(hit.b1, hit.b2));

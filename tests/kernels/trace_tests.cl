@@ -18,7 +18,7 @@ __kernel void brute_force_closest(__global const TrianglePacket* allTriangles, i
     int found = -1;
     for (int p = 0; p < packetCount; ++p) {
         float t, b1, b2;
-        int lane = intersect_packet(&sheared, &allTriangles[p], tMax, &t, &b1, &b2);
+        int lane = intersect_packet(&sheared, &allTriangles[p], tMax, 0, &t, &b1, &b2);
         if (lane >= 0) {
             tMax = t;
             found = allTriangles[p].triangle[lane];
@@ -47,7 +47,7 @@ __kernel void spawn_and_trace(__global const BvhNode* nodes, __global const Tria
     vec3 p = surface_point(v0, v1, v2, b.x, b.y, &error);
     vec3 ng = v3_normalize(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
     Hit hit;
-    trace_ray(nodes, packets, spawn_ray(p, error, ng, load_vec3(directions, i)), false, &hit);
+    trace_ray(nodes, packets, spawn_ray(p, error, ng, load_vec3(directions, i)), false, &hit, 0);
     hitT[i] = hit.triangle >= 0 ? hit.t : INFINITY;
     hitTriangle[i] = hit.triangle;
 }
@@ -61,5 +61,5 @@ __kernel void any_hit(__global const BvhNode* nodes, __global const TrianglePack
     if (i >= rayCount)
         return;
     Hit hit;
-    occluded[i] = trace_ray(nodes, packets, load_ray(rayOrigins, rayDirections, i), true, &hit);
+    occluded[i] = trace_ray(nodes, packets, load_ray(rayOrigins, rayDirections, i), true, &hit, 0);
 }
