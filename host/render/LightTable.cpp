@@ -1,5 +1,6 @@
 #include "LightTable.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace wv {
@@ -23,6 +24,24 @@ static double power(const Light& l, double sceneRadius, const EnvironmentLight& 
     return 0;
 }
 
+// The mean luminance of an emissive texture over scene triangle `tri`, from
+// 16 stratified points, kept above zero so that no part of an emitter that
+// does emit is left unselectable.
+static double textureMeanOverTriangle(const Scene& scene, const Texture& texture, uint32_t tri)
+{
+    const float* uv = &scene.uvs[6 * size_t(tri)];
+    double sum = 0;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            float b1 = (i + 0.5f) / 4, b2 = (j + 0.5f) / 4;
+            if (b1 + b2 > 1) b1 = 1 - b1, b2 = 1 - b2; // folded into the triangle
+            float b0 = 1 - b1 - b2;
+            Vec3 c = texture.sample(b0 * uv[0] + b1 * uv[2] + b2 * uv[4], b0 * uv[1] + b1 * uv[3] + b2 * uv[5]);
+            sum += 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+        }
+    return std::max(sum / 16, 1e-4);
+}
+
 LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
 {
     LightTable t;
@@ -36,6 +55,7 @@ LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
     t.info.backgroundLight = -1;
 
     t.lights = scene.lights;
+    std::vector<double> powerScale(t.lights.size(), 1.0); // emissive textures' means
     t.triangleLight.assign(bvh.triangleOrder.size(), -1);
     for (size_t i = 0; i < bvh.triangleOrder.size(); ++i) {
         uint32_t tri = bvh.triangleOrder[i];
@@ -51,6 +71,9 @@ LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
         for (int c = 0; c < 3; ++c) l.emission[c] = m.emission[c];
         t.triangleLight[i] = int(t.lights.size());
         t.lights.push_back(l);
+        powerScale.push_back(m.emissiveTexture > 0 && !scene.uvs.empty()
+                                 ? textureMeanOverTriangle(scene, scene.textures[size_t(m.emissiveTexture) - 1], tri)
+                                 : 1.0);
     }
     if (scene.features().background) {
         Light l{};
@@ -67,11 +90,12 @@ LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
         }
         t.info.backgroundLight = int(t.lights.size());
         t.lights.push_back(l);
+        powerScale.push_back(1.0);
     }
 
     std::vector<double> powers;
-    for (const Light& l : t.lights) {
-        powers.push_back(power(l, radius, t.environment));
+    for (size_t i = 0; i < t.lights.size(); ++i) {
+        powers.push_back(power(t.lights[i], radius, t.environment) * powerScale[i]);
         t.totalPower += powers.back();
     }
     t.cdf.assign(1, 0.0f);

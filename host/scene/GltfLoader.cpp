@@ -410,7 +410,7 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
         out.normalTexture = sceneTexture(info, name, "normal", false);
         out.normalScale = std::isfinite(m.normalTexture.scale) ? float(m.normalTexture.scale) : 1.0f;
     }
-    if (m.emissiveTexture.index >= 0) warnOnce(name + ": emissive textures are ignored; the emissive factor is used");
+    if (m.emissiveTexture.index >= 0) out.emissiveTexture = sceneTexture(m.emissiveTexture, name, "emissive", true);
     if (m.occlusionTexture.index >= 0)
         warnOnce(name + ": the occlusion texture is ignored (the renderer computes occlusion itself)");
     // alphaMode: MASK cuts out where alpha < alphaCutoff, BLEND lets a ray

@@ -20,7 +20,10 @@ SceneFeatures Scene::features() const
     for (int m : triangleMaterial) {
         f.lobes |= materials[m].lobes;
         const float* e = materials[m].emission;
-        if (e[0] > 0 || e[1] > 0 || e[2] > 0) f.emissiveTriangles = true;
+        if (e[0] > 0 || e[1] > 0 || e[2] > 0) {
+            f.emissiveTriangles = true;
+            if (materials[m].emissiveTexture > 0) f.emissiveTextures = true;
+        }
         if (materials[m].alphaMode != ALPHA_OPAQUE) f.alphaTest = true;
     }
     for (const Light& l : lights) {
@@ -59,7 +62,32 @@ std::string SceneFeatures::buildOptions() const
     if (textures) o += " -DHAS_TEXTURES";
     if (normalMaps) o += " -DHAS_NORMAL_MAPS";
     if (alphaTest) o += " -DHAS_ALPHA_TEST";
+    if (emissiveTextures) o += " -DHAS_EMISSIVE_TEXTURES";
     return o;
+}
+
+Vec3 Texture::sample(float u0, float v0) const
+{
+    const std::array<float, 6>& t = uvTransform;
+    float u = t[0] * u0 + t[1] * v0 + t[2], v = t[3] * u0 + t[4] * v0 + t[5];
+    float x = std::clamp(u, -1e6f, 1e6f) * float(image.width) - 0.5f;
+    float y = std::clamp(v, -1e6f, 1e6f) * float(image.height) - 0.5f;
+    float fx = std::floor(x), fy = std::floor(y), ax = x - fx, ay = y - fy;
+    auto wrap = [](int i, int n, int mode) {
+        if (mode == WRAP_CLAMP) return std::clamp(i, 0, n - 1);
+        int period = mode == WRAP_MIRROR ? 2 * n : n;
+        int m = i % period;
+        m = m < 0 ? m + period : m;
+        return mode == WRAP_MIRROR && m >= n ? period - 1 - m : m;
+    };
+    auto texel = [&](int i, int j) {
+        size_t p = size_t(wrap(j, image.height, wrapT)) * size_t(image.width) + size_t(wrap(i, image.width, wrapS));
+        return Vec3(image.rgb[3 * p], image.rgb[3 * p + 1], image.rgb[3 * p + 2]);
+    };
+    int i = int(fx), j = int(fy);
+    Vec3 top = texel(i, j) * (1 - ax) + texel(i + 1, j) * ax;
+    Vec3 bottom = texel(i, j + 1) * (1 - ax) + texel(i + 1, j + 1) * ax;
+    return top * (1 - ay) + bottom * ay;
 }
 
 static void store(float dst[3], Vec3 v) { dst[0] = v.x; dst[1] = v.y; dst[2] = v.z; }

@@ -40,6 +40,9 @@ struct Texture {
     int wrapS = WRAP_REPEAT, wrapT = WRAP_REPEAT;
     // KHR_texture_transform as an affine map of TEXCOORD_0 (TextureInfo::uvTransform).
     std::array<float, 6> uvTransform{1, 0, 0, 0, 1, 0};
+
+    // The bilinear lookup at TEXCOORD_0 (u, v), as kernels/materials/texture.h does it.
+    Vec3 sample(float u, float v) const;
 };
 
 // A camera as the glTF file describes it, before an image size is chosen.
@@ -62,6 +65,7 @@ struct SceneFeatures {
     bool textures = false;       // some material has a texture
     bool normalMaps = false;     // some material has a normal texture (Scene::tangents)
     bool alphaTest = false;      // some material's alphaMode is MASK or BLEND: rays test alpha
+    bool emissiveTextures = false; // some emitting triangle's material has an emissive texture
 
     std::string buildOptions() const;
 };

@@ -87,7 +87,7 @@ typedef struct Material {
     int alphaMode;             /* ALPHA_* (materials/alpha.h) */
     float alphaCutoff;         /* MASK: opaque where alpha >= this */
     float baseColorAlpha;      /* baseColorFactor's alpha; the base-colour texture's A multiplies it */
-    int pad;
+    int emissiveTexture;       /* 1 + its index in the texture table; its RGB scales emission (materials/emission.h) */
 } Material;
 
 /* glTF alphaMode. */

@@ -22,6 +22,8 @@ typedef struct LightSample {
     bool delta;
     int type;       /* LIGHT_* */
     vec3 lightPoint, lightNormal, lightError; /* triangle lights: for the shadow ray's far end */
+    int triangle;   /* triangle lights: the triangle and the point's barycentrics (emissive textures) */
+    vec2 bary;
     /* For the bidirectional MIS (mis.h): the density of having sampled this
      * direction here (directPdfW; for point and spot lights distance², as in
      * SmallVCM, since their intensity is not divided by it), that of the
@@ -105,16 +107,16 @@ INLINE bool sample_background(__global const Light* bg, __constant const SceneIn
 }
 
 #ifdef HAS_EMISSIVE_TRIANGLES
-/* A uniform point on an emissive triangle, its error bound and the
- * triangle's (emitting) geometric normal. */
-INLINE vec3 sample_triangle_point(__global const float4* triVertices, int triangle, float u1, float u2, vec3* error,
-                                  vec3* normal)
+/* A uniform point on an emissive triangle, its barycentrics, error bound and
+ * the triangle's (emitting) geometric normal. */
+INLINE vec3 sample_triangle_point(__global const float4* triVertices, int triangle, float u1, float u2, vec2* bary,
+                                  vec3* error, vec3* normal)
 {
     vec3 v0 = load_vec3(triVertices, 3 * triangle), v1 = load_vec3(triVertices, 3 * triangle + 1),
          v2 = load_vec3(triVertices, 3 * triangle + 2);
-    vec2 b = sample_triangle(u1, u2);
+    *bary = sample_triangle(u1, u2);
     *normal = v3_normalize(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
-    return surface_point(v0, v1, v2, b.x, b.y, error);
+    return surface_point(v0, v1, v2, bary->x, bary->y, error);
 }
 #endif
 
@@ -138,7 +140,8 @@ INLINE bool sample_light(__global const Light* lights, __global const float* cdf
 #ifdef HAS_EMISSIVE_TRIANGLES
     if (type == LIGHT_TRIANGLE) {
         vec3 n;
-        vec3 q = sample_triangle_point(triVertices, l->triangle, u.y, u.z, &s->lightError, &n);
+        vec3 q = sample_triangle_point(triVertices, l->triangle, u.y, u.z, &s->bary, &s->lightError, &n);
+        s->triangle = l->triangle;
         vec3 d = v3_sub(q, p);
         float dist = v3_length(d);
         s->direction = v3_div(d, dist);
@@ -205,6 +208,7 @@ typedef struct EmissionSample {
     bool deltaPosition, deltaDirection;
     bool finite;        /* not directional or background */
     vec3 normal, positionError; /* triangle lights: where the ray leaves from */
+    vec2 bary;                  /* triangle lights: the point's barycentrics (emissive textures) */
     int light;
 } EmissionSample;
 
@@ -232,7 +236,8 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
     float radius = scene->radius;
 #ifdef HAS_EMISSIVE_TRIANGLES
     if (type == LIGHT_TRIANGLE) {
-        e->position = sample_triangle_point(triVertices, l->triangle, u.y, u.z, &e->positionError, &e->normal);
+        e->position =
+            sample_triangle_point(triVertices, l->triangle, u.y, u.z, &e->bary, &e->positionError, &e->normal);
         Frame f = frame_from_normal(e->normal);
         vec3 dirLocal = sample_cosine_hemisphere(v.x, v.y);
         e->direction = to_world(&f, dirLocal);

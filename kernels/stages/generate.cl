@@ -11,6 +11,7 @@
 #include "interface/inline.h"
 #include "lights/camera.h"
 #include "lights/lights.h"
+#include "materials/emission.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
@@ -60,6 +61,12 @@ __kernel void generate_light(RENDER_KERNEL_PARAMS)
     bool finite = false;
     Environment env = {envRadiance, envMarginalCdf, envConditionalCdf};
     if (sample_emission(lights, lightCdf, triVertices, scene, &env, u, v, &e)) {
+#ifdef HAS_EMISSIVE_TEXTURES
+        if (lights[e.light].type == LIGHT_TRIANGLE) {
+            RenderBuffers b = RENDER_BUFFERS_VALUE;
+            e.radiance = triangle_emission(&b, &lights[e.light], e.bary);
+        }
+#endif
         finite = e.finite;
         float emissionPdfW = e.pdfPosition * e.pdfDirection;
         beta = v3_scale(e.radiance, e.cosAtLight / emissionPdfW);

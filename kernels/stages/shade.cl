@@ -17,6 +17,7 @@
 #include "interface/inline.h"
 #include "lights/lights.h"
 #include "materials/bsdf.h"
+#include "materials/emission.h"
 #include "materials/surface_bsdf.h"
 #include "transport/continue_path.h"
 #include "transport/path_state.h"
@@ -48,7 +49,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
         float w = 1.0f;
         if (prevPdf > 0.0f)
             w = power_heuristic(prevPdf, triangle_light_pdf(l->pmf, l->area, b->hitT[slot], cosLight));
-        L = v3_add(L, v3_scale(v3_mul(beta, load3(l->emission)), w));
+        L = v3_add(L, v3_scale(v3_mul(beta, triangle_emission(b, l, bary)), w));
     }
 #endif
 
@@ -61,6 +62,10 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
         LightSample ls;
         Environment env = {b->envRadiance, b->envMarginalCdf, b->envConditionalCdf};
         if (sample_light(b->lights, b->lightCdf, b->triVertices, b->scene, &env, hit.p, u, &ls)) {
+#ifdef HAS_EMISSIVE_TEXTURES
+            if (ls.type == LIGHT_TRIANGLE)
+                ls.radiance = triangle_emission(b, &b->lights[b->triangleLight[ls.triangle]], ls.bary);
+#endif
             vec3 wiL = to_local(&hit.frame, ls.direction);
             if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfBsdf, pdfRev;

@@ -19,6 +19,7 @@
 #include "interface/inline.h"
 #include "lights/lights.h"
 #include "materials/bsdf.h"
+#include "materials/emission.h"
 #include "materials/surface_bsdf.h"
 #include "transport/continue_path.h"
 #include "transport/mis.h"
@@ -60,7 +61,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
             w = mis_weight_emission_hit(mis, directPdfA, emissionPdfW);
         }
 #endif
-        L = v3_add(L, v3_scale(v3_mul(beta, load3(b->lights[light].emission)), w));
+        L = v3_add(L, v3_scale(v3_mul(beta, triangle_emission(b, &b->lights[light], bary)), w));
     }
 #endif
 
@@ -78,6 +79,10 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
         LightSample ls;
         Environment env = {b->envRadiance, b->envMarginalCdf, b->envConditionalCdf};
         if (sample_light(b->lights, b->lightCdf, b->triVertices, b->scene, &env, hit.p, u, &ls)) {
+#ifdef HAS_EMISSIVE_TEXTURES
+            if (ls.type == LIGHT_TRIANGLE)
+                ls.radiance = triangle_emission(b, &b->lights[b->triangleLight[ls.triangle]], ls.bary);
+#endif
             vec3 wiL = to_local(&hit.frame, ls.direction);
             if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfFwd, pdfRev;
