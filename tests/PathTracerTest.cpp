@@ -110,9 +110,10 @@ TEST(PathTracer, FurnaceWithWhiteMirrorInside)
 TEST(PathTracer, EveryBundledSceneRendersFinite)
 {
     for (const char* name : {"cornell-box", "cornell-box-point", "cornell-box-background", "cornell-box-directional",
-                             "caustics"}) {
+                             "caustics", "textured-room"}) {
         SCOPED_TRACE(name);
         Scene scene = loadGltf(std::string(WAVEVCM_SOURCE_DIR) + "/scenes/" + name + ".gltf");
+        EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
         Render r = renderPt(test::devicesUnderTest()[0], scene, 32, 24, 4, 3, 8);
         EXPECT_EQ(r.nonFinite, 0u);
         double sum = 0;
