@@ -197,7 +197,7 @@ TEST_F(NormalMaps, EveryAlgorithmAgreesWithThePathTracer)
     DeviceInfo device = test::devicesUnderTest()[0];
     std::vector<Image> reference = test::renderSeeds(device, s, Algorithm::PathTracing, size, size, iterations, seeds);
     test::expectConvergeTo(device, s, reference,
-                           {Algorithm::LightTracing, Algorithm::Bidirectional, Algorithm::BidirectionalPhotonMapping,
+                           {Algorithm::LightTracing, Algorithm::BidirectionalPhotonMapping,
                             Algorithm::VertexConnectionMerging},
                            size, size, iterations, seeds);
 
