@@ -100,7 +100,7 @@ TEST(GpuCompile, EveryProgramAssemblesForSm90)
     all.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_DELTA_REFLECTION |
                 LOBE_DELTA_TRANSMISSION;
     all.pointLights = all.spotLights = all.directionalLights = all.emissiveTriangles = all.background = true;
-    all.environmentMap = all.textures = all.normalMaps = all.alphaTest = all.emissiveTextures = true;
+    all.environmentMap = all.textures = all.normalMaps = all.alphaTest = all.emissiveTextures = all.texCoord1 = true;
 
     fs::path dir = fs::temp_directory_path() / ("wavevcm-ptx-" + std::to_string(getpid()));
     fs::create_directories(dir);

@@ -12,12 +12,14 @@ std::string writeQuad(const std::filesystem::path& dir, const std::string& name,
     using json = nlohmann::json;
     const float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
     const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
-    // Positions, texture coordinates, indices, then the tangents if any.
-    std::vector<unsigned char> bin(48 + 32 + 12 + 4 * quad.tangents.size());
+    // Positions, texture coordinates, indices, then the tangents and the second coordinates if any.
+    size_t tangentsAt = 92, uv1At = tangentsAt + 4 * quad.tangents.size();
+    std::vector<unsigned char> bin(uv1At + 4 * quad.uv1.size());
     std::memcpy(bin.data(), pos, 48);
     std::memcpy(bin.data() + 48, quad.uv.data(), 32);
     std::memcpy(bin.data() + 80, idx, 12);
-    if (!quad.tangents.empty()) std::memcpy(bin.data() + 92, quad.tangents.data(), 4 * quad.tangents.size());
+    if (!quad.tangents.empty()) std::memcpy(bin.data() + tangentsAt, quad.tangents.data(), 4 * quad.tangents.size());
+    if (!quad.uv1.empty()) std::memcpy(bin.data() + uv1At, quad.uv1.data(), 4 * quad.uv1.size());
     std::ofstream(dir / (name + ".bin"), std::ios::binary)
         .write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
 
@@ -31,9 +33,14 @@ std::string writeQuad(const std::filesystem::path& dir, const std::string& name,
                       {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
                       {{"bufferView", 2}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}};
     if (!quad.tangents.empty()) {
-        views.push_back({{"buffer", 0}, {"byteOffset", 92}, {"byteLength", 4 * quad.tangents.size()}});
-        accessors.push_back({{"bufferView", 3}, {"componentType", 5126}, {"count", 4}, {"type", "VEC4"}});
-        attributes["TANGENT"] = 3;
+        views.push_back({{"buffer", 0}, {"byteOffset", tangentsAt}, {"byteLength", 4 * quad.tangents.size()}});
+        accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC4"}});
+        attributes["TANGENT"] = accessors.size() - 1;
+    }
+    if (!quad.uv1.empty()) {
+        views.push_back({{"buffer", 0}, {"byteOffset", uv1At}, {"byteLength", 4 * quad.uv1.size()}});
+        accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+        attributes["TEXCOORD_1"] = accessors.size() - 1;
     }
     json textures = json::array(), images = json::array();
     for (size_t i = 0; i < quad.images.size(); ++i) {

@@ -21,6 +21,7 @@ struct QuadFile {
     // default the texture's (0, 0) at the top left (−1, 1), u along +x.
     std::array<float, 8> uv{0, 1, 1, 1, 1, 0, 0, 0};
     bool uvs = true;              // false: no TEXCOORD_0
+    std::vector<float> uv1;       // TEXCOORD_1 of the corners, or none when empty
     std::vector<float> tangents;  // TANGENT (x, y, z, w per corner), or none when empty
     std::vector<std::string> extensionsUsed{"KHR_materials_specular"};
 };

@@ -44,6 +44,10 @@ protected:
                 mr.rgb[3 * size_t(2 * y + x) + 2] = float(x);
             }
         writeImage((dir_ / "mr.png").string(), mr);
+        // Transmission data: R 0 in the left column, 1 in the right.
+        Image transmission(2, 2);
+        for (int y = 0; y < 2; ++y) transmission.rgb[3 * size_t(2 * y + 1)] = 1;
+        writeImage((dir_ / "transmission.png").string(), transmission);
     }
     void TearDown() override { fs::remove_all(dir_); }
 
@@ -54,14 +58,17 @@ protected:
     }
 
     // The same with the material's pbrMetallicRoughness given whole; texture
-    // 0 is texture.png, texture 1 mr.png.
-    std::string writeQuadWith(const std::string& name, const json& pbr, const json& sampler, bool uvs = true)
+    // 0 is texture.png, texture 1 mr.png, texture 2 transmission.png; more
+    // material extensions (KHR_materials_*) in `extensions`.
+    std::string writeQuadWith(const std::string& name, const json& pbr, const json& sampler, bool uvs = true,
+                              json extensions = json::object())
     {
         test::QuadFile quad;
         // Pure Lambert (no specular layer): under a uniform background it reflects base colour × L.
-        quad.material = {{"pbrMetallicRoughness", pbr},
-                         {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}};
-        quad.images = {"texture.png", "mr.png"};
+        extensions["KHR_materials_specular"] = {{"specularFactor", 0.0}};
+        quad.material = {{"pbrMetallicRoughness", pbr}, {"extensions", extensions}};
+        quad.extensionsUsed = {"KHR_materials_specular", "KHR_materials_transmission"};
+        quad.images = {"texture.png", "mr.png", "transmission.png"};
         quad.sampler = sampler;
         quad.uvs = uvs;
         return test::writeQuad(dir_, name, quad);
@@ -112,11 +119,19 @@ TEST_F(Textures, LoadDecodedWithWrapModesAndCoordinates)
     EXPECT_FLOAT_EQ(s.uvs[0], 0.0f); // corner (−1, −1) of the first triangle: uv (0, 1)
     EXPECT_FLOAT_EQ(s.uvs[1], 1.0f);
 
-    // TEXCOORD_1 is not read: the factor alone, with a warning.
+    // TEXCOORD_1 is read where a texture asks for it (here the file has none:
+    // a warning, and (0, 0)); TEXCOORD_2 is not: the factor alone, with a warning.
     Scene second = loadGltf(writeQuad("texcoord1", {{"index", 0}, {"texCoord", 1}}, json::object()));
-    EXPECT_TRUE(second.textures.empty());
-    EXPECT_EQ(second.materials.at(0).baseColorTexture, 0);
-    EXPECT_TRUE(anyWarningContains(second, "only TEXCOORD_0"));
+    ASSERT_EQ(second.textures.size(), 1u);
+    EXPECT_EQ(second.textures[0].texCoord, 1);
+    EXPECT_EQ(second.uvs1.size(), 6 * second.triangleCount());
+    EXPECT_TRUE(second.features().texCoord1);
+    EXPECT_TRUE(anyWarningContains(second, "without TEXCOORD_1"));
+    EXPECT_TRUE(s.uvs1.empty()) << "no texture reads TEXCOORD_1: the set is dropped";
+    Scene third = loadGltf(writeQuad("texcoord2", {{"index", 0}, {"texCoord", 2}}, json::object()));
+    EXPECT_TRUE(third.textures.empty());
+    EXPECT_EQ(third.materials.at(0).baseColorTexture, 0);
+    EXPECT_TRUE(anyWarningContains(third, "only TEXCOORD_0 and TEXCOORD_1"));
 
     // An image that is not there: the factor alone, with a warning naming it.
     fs::rename(dir_ / "texture.png", dir_ / "moved.png");
@@ -217,6 +232,80 @@ TEST_F(Textures, MetallicRoughnessTextureSelectsTheLobes)
         double reference = blockMean(m.image, size, size - block, y0, block, 0, &seM);
         EXPECT_NEAR(right, reference, 5 * std::sqrt(seT * seT + seM * seM) + 1e-4) << "metal column, row " << y0;
         EXPECT_LT(reference, 0.98 * L) << "a rough metal loses energy: the two columns must differ";
+    }
+}
+
+// A transmission texture (KHR_materials_transmission's transmissionTexture,
+// R times transmissionFactor): a smooth thin-walled grey quad before an
+// emitter, seen head-on. Where the texture is 0 (left) the quad is the
+// opaque Lambert of transmission 0, dark (lit only from behind); where it is
+// 1 (right), the transmitting quad of factor 1, showing the emitter. At the
+// same seed each side renders as the untextured quad does.
+TEST_F(Textures, TransmissionTextureScalesTransmission)
+{
+    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
+    json pbr = {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.0}};
+    auto quad = [&](const std::string& name, double factor, bool textured) {
+        json transmission = {{"transmissionFactor", factor}};
+        if (textured) transmission["transmissionTexture"] = {{"index", 2}};
+        Scene s = loadGltf(writeQuadWith(name, pbr, clamp, true, {{"KHR_materials_transmission", transmission}}));
+        // An emitter of radiance 1 behind the quad, facing it.
+        s.materials.push_back(test::lambert(0.0f, 1.0f));
+        const Vec3 e[6] = {{-2, -2, -1}, {2, -2, -1}, {2, 2, -1}, {-2, -2, -1}, {2, 2, -1}, {-2, 2, -1}};
+        for (int t = 0; t < 2; ++t) {
+            for (int k = 0; k < 3; ++k) s.vertices.push_back(e[3 * t + k]);
+            s.triangleMaterial.push_back(int(s.materials.size()) - 1);
+            if (!s.uvs.empty()) s.uvs.insert(s.uvs.end(), 6, 0.0f);
+        }
+        return s;
+    };
+    Scene textured = quad("transmission", 1.0, true);
+    ASSERT_EQ(textured.materials.at(0).transmissionTexture, 1);
+    EXPECT_TRUE(textured.materials.at(0).lobes & LOBE_DIFFUSE) << "transmission may fall to 0: diffuse is needed";
+    Scene clear = quad("clear", 1.0, false), opaque = quad("opaque", 0.0, false);
+    const int size = 32, block = 8, iterations = 16;
+    DeviceInfo device = test::devicesUnderTest()[0];
+    test::Render t = test::render(device, textured, Algorithm::PathTracing, size, size, iterations, 5);
+    test::Render c = test::render(device, clear, Algorithm::PathTracing, size, size, iterations, 5);
+    test::Render o = test::render(device, opaque, Algorithm::PathTracing, size, size, iterations, 5);
+    for (int y0 : {0, size - block}) {
+        double se, left = blockMean(t.image, size, 0, y0, block, 0, &se);
+        double right = blockMean(t.image, size, size - block, y0, block, 0, &se);
+        double opaqueLeft = blockMean(o.image, size, 0, y0, block, 0, &se);
+        double clearRight = blockMean(c.image, size, size - block, y0, block, 0, &se);
+        EXPECT_NEAR(left, opaqueLeft, 1e-3 * (1 + opaqueLeft)) << "row " << y0;
+        EXPECT_NEAR(right, clearRight, 1e-3 * (1 + clearRight)) << "row " << y0;
+        EXPECT_GT(clearRight, 0.3) << "the emitter shows through the clear quad";
+        EXPECT_LT(opaqueLeft, 0.05) << "the opaque quad is lit only from behind";
+    }
+}
+
+// TEXCOORD_1: the base-colour texture read through the second set, which
+// mirrors the first (u along −x), shows each texel in the horizontally
+// opposite corner from where TEXCOORD_0 puts it.
+TEST_F(Textures, SecondTexCoordSetIsRead)
+{
+    test::QuadFile q;
+    q.material = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 1}}}, {"metallicFactor", 0.0}}},
+                  {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}};
+    q.images = {"texture.png"};
+    q.sampler = {{"wrapS", 33071}, {"wrapT", 33071}};
+    q.uv1 = {1, 1, 0, 1, 0, 0, 1, 0};
+    Scene s = loadGltf(test::writeQuad(dir_, "second", q));
+    ASSERT_EQ(s.textures.size(), 1u);
+    EXPECT_NE(s.features().buildOptions().find("-DHAS_TEXCOORD1"), std::string::npos);
+    const float L = 0.8f;
+    s.background = {L, L, L};
+    const int size = 32, block = 8;
+    test::Render r = test::render(test::devicesUnderTest()[0], s, Algorithm::PathTracing, size, size, 32, 5);
+    const int texelAtCorner[4] = {1, 0, 3, 2}; // TEXCOORD_0 would show 0, 1, 2, 3
+    for (int corner = 0; corner < 4; ++corner) {
+        int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
+        for (int c = 0; c < 3; ++c) {
+            double se, mean = blockMean(r.image, size, x0, y0, block, c, &se);
+            double expected = L * s.textures[0].image.rgb[3 * size_t(texelAtCorner[corner]) + size_t(c)];
+            EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
+        }
     }
 }
 

@@ -29,7 +29,7 @@ static double power(const Light& l, double sceneRadius, const EnvironmentLight& 
 // does emit is left unselectable.
 static double textureMeanOverTriangle(const Scene& scene, const Texture& texture, uint32_t tri)
 {
-    const float* uv = &scene.uvs[6 * size_t(tri)];
+    const float* uv = &(texture.texCoord == 1 ? scene.uvs1 : scene.uvs)[6 * size_t(tri)];
     double sum = 0;
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) {

@@ -44,12 +44,15 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     std::vector<std::array<float, 4>> vertices(3 * count), normals(scene.normals.empty() ? 1 : 3 * count);
     std::vector<int> triMaterial(count);
     std::vector<float> uvs(scene.uvs.empty() ? 2 : 6 * count, 0.0f); // BVH order, like the vertices
+    std::vector<float> uvs1(scene.uvs1.empty() ? 2 : 6 * count, 0.0f);
     std::vector<std::array<float, 4>> tangents(scene.tangents.empty() ? 1 : 3 * count);
     for (size_t i = 0; i < count; ++i) {
         uint32_t t = bvh.triangleOrder[i];
         triMaterial[i] = scene.triangleMaterial[t];
         if (!scene.uvs.empty())
             for (int k = 0; k < 6; ++k) uvs[6 * i + size_t(k)] = scene.uvs[6 * size_t(t) + size_t(k)];
+        if (!scene.uvs1.empty())
+            for (int k = 0; k < 6; ++k) uvs1[6 * i + size_t(k)] = scene.uvs1[6 * size_t(t) + size_t(k)];
         if (!scene.tangents.empty())
             for (int k = 0; k < 3; ++k) tangents[3 * i + size_t(k)] = scene.tangents[3 * size_t(t) + size_t(k)];
         for (int k = 0; k < 3; ++k) {
@@ -91,6 +94,7 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
         info.wrapS = t.wrapS;
         info.wrapT = t.wrapT;
         for (int k = 0; k < 6; ++k) info.uvTransform[k] = t.uvTransform[size_t(k)];
+        info.texCoord = t.texCoord;
         textureTable.push_back(info);
         for (size_t p = 0; p < t.image.rgb.size() / 3; ++p) // alpha in w (1 where the image has none)
             texels.push_back({t.image.rgb[3 * p], t.image.rgb[3 * p + 1], t.image.rgb[3 * p + 2],
@@ -102,6 +106,7 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     textureTexels = upload(texels, "the textures");
     textures = upload(textureTable, "the texture table");
     triUVs = upload(uvs, "the texture coordinates");
+    triUVs1 = upload(uvs1, "the second texture coordinates");
     triTangents = upload(tangents, "the tangents");
     const EnvironmentLight& env = lightTable.environment;
     auto nonEmpty = [](std::vector<float> v, size_t n) { // OpenCL buffers cannot be empty
@@ -130,6 +135,7 @@ void SceneBuffers::bind(KernelBuffers& b) const
     b.textureTexels = textureTexels;
     b.textures = textures;
     b.triUVs = triUVs;
+    b.triUVs1 = triUVs1;
     b.triTangents = triTangents;
     b.envRadiance = envRadiance;
     b.envMarginalCdf = envMarginalCdf;

@@ -23,6 +23,7 @@ struct SceneBuffers {
     cl::Buffer textureTexels;    // float4 per texel of every texture (1 element without textures)
     cl::Buffer textures;         // TextureInfo[] (1 element without textures)
     cl::Buffer triUVs;           // float2[3 · triangles] with textures, BVH order (else 1)
+    cl::Buffer triUVs1;          // the same for TEXCOORD_1 when a texture reads it (else 1)
     cl::Buffer triTangents;      // float4[3 · triangles] with normal maps, BVH order (else 1)
     cl::Buffer envRadiance;      // float4 per environment-map texel (1 element without a map)
     cl::Buffer envMarginalCdf;   // float[height + 1]

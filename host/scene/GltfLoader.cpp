@@ -192,8 +192,9 @@ private:
     int defaultMaterial_ = -1;
     bool normalMaps_ = false; // some material has a normal texture: every triangle gets tangents
     DecodedImages images_;
-    // (glTF texture, sRGB, uv transform) → 1 + index in scene_.textures
-    std::map<std::tuple<int, bool, std::array<float, 6>>, int> sceneTexture_;
+    // (glTF texture, sRGB, uv transform, TEXCOORD set) → 1 + index in scene_.textures
+    std::map<std::tuple<int, bool, std::array<float, 6>, int>, int> sceneTexture_;
+    bool texCoord1_ = false; // some texture reads TEXCOORD_1: triangles keep that set too
 };
 
 bool decodeGltfImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
@@ -268,6 +269,7 @@ void Loader::load()
     loadMaterials();
     visitNodes();
     if (scene_.textures.empty()) scene_.uvs = {}; // only textures read them
+    if (!texCoord1_) scene_.uvs1 = {};
     loadBackground();
     if (scene_.triangleCount() == 0) {
         std::string skipped;
@@ -320,11 +322,7 @@ int Loader::sceneTexture(const tinygltf::TextureInfo& info, const std::string& m
 {
     std::string what = material + ": " + kind + " texture " + std::to_string(info.index);
     if (size_t(info.index) >= model_.textures.size()) fail(what + " out of range");
-    if (info.texCoord != 0) {
-        warnOnce(what + " uses TEXCOORD_" + std::to_string(info.texCoord) +
-                 "; only TEXCOORD_0 is supported, so the material's factor is used");
-        return 0;
-    }
+    int texCoord = info.texCoord;
     // KHR_texture_transform: uv' = offset + R(rotation) · (scale ∘ uv), R
     // counter-clockwise (the extension's matrix translation · rotation · scale).
     std::array<float, 6> transform{1, 0, 0, 0, 1, 0};
@@ -343,13 +341,14 @@ int Loader::sceneTexture(const tinygltf::TextureInfo& info, const std::string& m
         double sx = pair("scale", 1, 0), sy = pair("scale", 1, 1);
         transform = {float(c * sx), float(-s * sy), float(pair("offset", 0, 0)),
                      float(s * sx), float(c * sy), float(pair("offset", 0, 1))};
-        if (e->Has("texCoord") && number(*e, "texCoord", 0) != 0) {
-            warnOnce(what + ": KHR_texture_transform selects another TEXCOORD; only TEXCOORD_0 is supported, so "
-                            "the material's factor is used");
-            return 0;
-        }
+        if (e->Has("texCoord")) texCoord = int(number(*e, "texCoord", 0)); // the extension overrides the set
     }
-    auto known = sceneTexture_.find({info.index, srgb, transform});
+    if (texCoord != 0 && texCoord != 1) {
+        warnOnce(what + " uses TEXCOORD_" + std::to_string(texCoord) +
+                 "; only TEXCOORD_0 and TEXCOORD_1 are read, so the material's factor is used");
+        return 0;
+    }
+    auto known = sceneTexture_.find({info.index, srgb, transform, texCoord});
     if (known != sceneTexture_.end()) return known->second;
     const tinygltf::Texture& t = model_.textures[size_t(info.index)];
     int result = 0;
@@ -366,6 +365,8 @@ int Loader::sceneTexture(const tinygltf::TextureInfo& info, const std::string& m
         texture.image = image->second;
         if (srgb) srgbToLinear(texture.image); // colour is sRGB-encoded (glTF 2.0 §3.9.2), data linear
         texture.uvTransform = transform;
+        texture.texCoord = texCoord;
+        texCoord1_ = texCoord1_ || texCoord == 1;
         if (t.sampler >= 0 && size_t(t.sampler) < model_.samplers.size()) {
             auto wrap = [](int mode) {
                 return mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE     ? WRAP_CLAMP
@@ -378,7 +379,7 @@ int Loader::sceneTexture(const tinygltf::TextureInfo& info, const std::string& m
         scene_.textures.push_back(std::move(texture));
         result = int(scene_.textures.size());
     }
-    sceneTexture_[{info.index, srgb, transform}] = result;
+    sceneTexture_[{info.index, srgb, transform, texCoord}] = result;
     return result;
 }
 
@@ -439,8 +440,21 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
         if (!(ior >= 1.0) || !std::isfinite(ior)) fail(name + ": KHR_materials_ior ior must be >= 1, got " + std::to_string(ior));
         out.ior = float(ior);
     }
-    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_transmission"))
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_transmission")) {
         out.transmission = clamp01(number(*e, "transmissionFactor", 0.0));
+        if (e->Has("transmissionTexture")) {
+            // An extension's texture reference is plain JSON to tinygltf.
+            const tinygltf::Value& t = e->Get("transmissionTexture");
+            if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsInt())
+                fail(name + ": KHR_materials_transmission.transmissionTexture needs an integer index");
+            tinygltf::TextureInfo info;
+            info.index = t.Get("index").GetNumberAsInt();
+            info.texCoord = t.Has("texCoord") && t.Get("texCoord").IsInt() ? t.Get("texCoord").GetNumberAsInt() : 0;
+            if (t.Has("extensions") && t.Get("extensions").IsObject())
+                for (const std::string& key : t.Get("extensions").Keys()) info.extensions[key] = t.Get("extensions").Get(key);
+            out.transmissionTexture = sceneTexture(info, name, "transmission", false);
+        }
+    }
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_volume")) {
         out.thinWalled = number(*e, "thicknessFactor", 0.0) > 0.0 ? 0 : 1;
         out.attenuationDistance = float(std::max(0.0, number(*e, "attenuationDistance", 0.0)));
@@ -458,7 +472,10 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     // A metallic-roughness texture scales metallic down anywhere from the
     // factor to 0: the lobes must cover every value in between.
     float dielectric = out.metallicRoughnessTexture > 0 ? 1.0f : 1.0f - out.metallic;
-    bool diffuse = dielectric * (1.0f - out.transmission) > 0 && maxOf(out.baseColor) > 0;
+    // A transmission texture scales transmission down anywhere to 0: the
+    // diffuse lobe must then be there too.
+    float opaquePart = out.transmissionTexture > 0 ? 1.0f : 1.0f - out.transmission;
+    bool diffuse = dielectric * opaquePart > 0 && maxOf(out.baseColor) > 0;
     bool metalReflects = out.metallic > 0 && maxOf(out.baseColor) > 0;
     bool dielectricReflects = dielectric > 0 && out.ior != 1.0f &&
                               ((out.specular > 0 && maxOf(out.specularColor) > 0) || out.transmission > 0);
@@ -807,11 +824,13 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             normals = readVec3(nrm->second, what + " NORMAL");
             if (normals.size() != positions.size()) fail(what + ": NORMAL and POSITION counts differ");
         }
-        std::vector<float> uvs; // TEXCOORD_0, for textures
-        auto uv = prim.attributes.find("TEXCOORD_0");
-        if (uv != prim.attributes.end()) {
-            uvs = readTexCoords(uv->second, what + " TEXCOORD_0");
-            if (uvs.size() != 2 * positions.size()) fail(what + ": TEXCOORD_0 and POSITION counts differ");
+        std::vector<float> uvSets[2]; // TEXCOORD_0 and _1, for textures
+        for (int set = 0; set < 2; ++set) {
+            std::string name = "TEXCOORD_" + std::to_string(set);
+            auto uv = prim.attributes.find(name);
+            if (uv == prim.attributes.end()) continue;
+            uvSets[set] = readTexCoords(uv->second, what + " " + name);
+            if (uvSets[set].size() != 2 * positions.size()) fail(what + ": " + name + " and POSITION counts differ");
         }
         std::vector<uint32_t> indices;
         if (prim.indices >= 0) {
@@ -837,8 +856,14 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
         }
 
         const Material& used = scene_.materials[size_t(material)];
-        if (uvs.empty() && (used.baseColorTexture > 0 || used.metallicRoughnessTexture > 0 || used.normalTexture > 0))
-            warnOnce(what + ": a textured material without TEXCOORD_0; the texel at (0, 0) is used");
+        for (int texture : {used.baseColorTexture, used.metallicRoughnessTexture, used.normalTexture,
+                            used.emissiveTexture, used.transmissionTexture}) {
+            if (texture <= 0) continue;
+            int set = scene_.textures[size_t(texture) - 1].texCoord;
+            if (uvSets[set].empty())
+                warnOnce(what + ": a textured material without TEXCOORD_" + std::to_string(set) +
+                         "; the texel at (0, 0) is used");
+        }
         // Tangents (x, y, z, handedness) for a normal map: TANGENT, else made from the UVs.
         std::vector<float> tangents;
         if (used.normalTexture > 0) {
@@ -847,7 +872,8 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
                 tangents = readFloats(tan->second, 4, what + " TANGENT");
                 if (tangents.size() != 4 * positions.size()) fail(what + ": TANGENT and POSITION counts differ");
             } else {
-                tangents = generateTangents(positions, normals, uvs, indices);
+                tangents = generateTangents(positions, normals,
+                                            uvSets[scene_.textures[size_t(used.normalTexture) - 1].texCoord], indices);
             }
         }
 
@@ -868,9 +894,12 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             for (int k = 0; k < 3; ++k) v[k] = transformPoint(world, positions[indices[i + corner[k]]]);
             for (int k = 0; k < 3; ++k) scene_.vertices.push_back(v[k]);
             scene_.triangleMaterial.push_back(material);
-            for (int k = 0; k < 3; ++k) // (0, 0) without TEXCOORD_0; dropped unless the scene has textures
-                for (int c = 0; c < 2; ++c)
-                    scene_.uvs.push_back(uvs.empty() ? 0.0f : uvs[2 * size_t(indices[i + corner[k]]) + size_t(c)]);
+            for (int set = 0; set < 2; ++set) // (0, 0) where missing; dropped unless a texture reads them
+                for (int k = 0; k < 3; ++k)
+                    for (int c = 0; c < 2; ++c)
+                        (set ? scene_.uvs1 : scene_.uvs)
+                            .push_back(uvSets[set].empty() ? 0.0f
+                                                           : uvSets[set][2 * size_t(indices[i + corner[k]]) + size_t(c)]);
             for (int k = 0; wantTangents && k < 3; ++k) {
                 std::array<float, 4> t{0, 0, 0, 0};
                 if (!tangents.empty()) {

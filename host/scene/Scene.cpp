@@ -34,6 +34,7 @@ SceneFeatures Scene::features() const
     f.environmentMap = !environment.empty();
     f.textures = !textures.empty();
     f.normalMaps = !tangents.empty();
+    f.texCoord1 = !uvs1.empty();
     f.background = f.environmentMap || background.x > 0 || background.y > 0 || background.z > 0;
     return f;
 }
@@ -63,6 +64,7 @@ std::string SceneFeatures::buildOptions() const
     if (normalMaps) o += " -DHAS_NORMAL_MAPS";
     if (alphaTest) o += " -DHAS_ALPHA_TEST";
     if (emissiveTextures) o += " -DHAS_EMISSIVE_TEXTURES";
+    if (texCoord1) o += " -DHAS_TEXCOORD1";
     return o;
 }
 

@@ -16,7 +16,7 @@ namespace wv {
 static_assert(sizeof(BvhNode) == 7 * 4 * BVH_WIDTH, "BvhNode layout");
 static_assert(sizeof(TrianglePacket) == 40 * TRIANGLE_PACKET_WIDTH, "TrianglePacket layout");
 static_assert(sizeof(Camera) == 64, "Camera layout");
-static_assert(sizeof(Material) == 112, "Material layout");
+static_assert(sizeof(Material) == 128, "Material layout");
 static_assert(sizeof(TextureInfo) == 48, "TextureInfo layout");
 static_assert(sizeof(Light) == 64, "Light layout");
 static_assert(sizeof(SceneInfo) == 48, "SceneInfo layout");
@@ -38,10 +38,11 @@ struct Texture {
     std::string name;
     Image image;
     int wrapS = WRAP_REPEAT, wrapT = WRAP_REPEAT;
-    // KHR_texture_transform as an affine map of TEXCOORD_0 (TextureInfo::uvTransform).
+    // KHR_texture_transform as an affine map of the texture coordinates (TextureInfo::uvTransform).
     std::array<float, 6> uvTransform{1, 0, 0, 0, 1, 0};
+    int texCoord = 0; // which set it reads: TEXCOORD_0 or _1
 
-    // The bilinear lookup at TEXCOORD_0 (u, v), as kernels/materials/texture.h does it.
+    // The bilinear lookup at texture coordinates (u, v), as kernels/materials/texture.h does it.
     Vec3 sample(float u, float v) const;
 };
 
@@ -66,6 +67,7 @@ struct SceneFeatures {
     bool normalMaps = false;     // some material has a normal texture (Scene::tangents)
     bool alphaTest = false;      // some material's alphaMode is MASK or BLEND: rays test alpha
     bool emissiveTextures = false; // some emitting triangle's material has an emissive texture
+    bool texCoord1 = false;      // some texture reads TEXCOORD_1 (Scene::uvs1)
 
     std::string buildOptions() const;
 };
@@ -86,6 +88,8 @@ struct Scene {
     // TEXCOORD_0 of every triangle's corners (u, v per corner: 6 floats per
     // triangle) when the scene has textures, else empty.
     std::vector<float> uvs;
+    // TEXCOORD_1 likewise, when some texture reads that set, else empty.
+    std::vector<float> uvs1;
     // Tangent frames of every triangle's corners for normal maps (three per
     // triangle: x, y, z along +u, handedness w = ±1, the bitangent being
     // cross(n, t)·w), zero where the material has none; empty when no

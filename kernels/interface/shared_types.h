@@ -88,6 +88,8 @@ typedef struct Material {
     float alphaCutoff;         /* MASK: opaque where alpha >= this */
     float baseColorAlpha;      /* baseColorFactor's alpha; the base-colour texture's A multiplies it */
     int emissiveTexture;       /* 1 + its index in the texture table; its RGB scales emission (materials/emission.h) */
+    int transmissionTexture;   /* the same; its R scales transmission (KHR_materials_transmission) */
+    int pad[3];
 } Material;
 
 /* glTF alphaMode. */
@@ -109,7 +111,7 @@ typedef struct TextureInfo {
     int width, height;
     int wrapS, wrapT;
     float uvTransform[6];
-    int pad;
+    int texCoord; /* the set it reads: 0 TEXCOORD_0, 1 TEXCOORD_1 */
 } TextureInfo;
 
 #define LIGHT_POINT 0

@@ -19,10 +19,8 @@ INLINE float surface_alpha(const RenderBuffers* b, __global const Material* m, i
 {
     float alpha = m->baseColorAlpha;
 #ifdef HAS_TEXTURES
-    if (m->baseColorTexture > 0) {
-        vec2 uv = surface_uv(b->triUVs, tri, bary);
-        alpha *= texture_alpha(b->textureTexels, &b->textures[m->baseColorTexture - 1], uv.x, uv.y);
-    }
+    if (m->baseColorTexture > 0)
+        alpha *= scene_texture_alpha(b, m->baseColorTexture, tri, bary);
 #endif
     return alpha;
 }

@@ -81,7 +81,7 @@ INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
  * there where it has them (materials/texture.h: surface_material). */
 typedef struct SurfaceMaterial {
     vec3 baseColor;
-    float metallic, roughness;
+    float metallic, roughness, transmission;
 } SurfaceMaterial;
 
 /* The factors alone (untextured). */
@@ -91,6 +91,7 @@ INLINE SurfaceMaterial material_factors(__global const Material* m)
     s.baseColor = load3(m->baseColor);
     s.metallic = m->metallic;
     s.roughness = m->roughness;
+    s.transmission = m->transmission;
     return s;
 }
 
@@ -112,8 +113,8 @@ INLINE Bsdf make_bsdf(__global const Material* m, const SurfaceMaterial* at, vec
     b.metalF0 = base;
     b.specular = m->ior == 1.0f ? 0.0f : dielectric * m->specular; /* index-matched: no reflection */
     b.specularTint = v3_scale(load3(m->specularColor), b.specular);
-    b.transmitColor = v3_scale(base, dielectric * m->transmission);
-    b.diffuseColor = v3_scale(base, dielectric * (1.0f - m->transmission));
+    b.transmitColor = v3_scale(base, dielectric * at->transmission);
+    b.diffuseColor = v3_scale(base, dielectric * (1.0f - at->transmission));
     b.lobeProb = lobe_probabilities(&b, wo.z, b.eta);
     return b;
 }

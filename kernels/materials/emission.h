@@ -17,10 +17,8 @@ INLINE vec3 triangle_emission(const RenderBuffers* b, __global const Light* ligh
     vec3 radiance = load3(light->emission);
 #ifdef HAS_EMISSIVE_TEXTURES
     __global const Material* m = &b->materials[b->triMaterials[light->triangle]];
-    if (m->emissiveTexture > 0) {
-        vec2 uv = surface_uv(b->triUVs, light->triangle, bary);
-        radiance = v3_mul(radiance, texture_bilinear(b->textureTexels, &b->textures[m->emissiveTexture - 1], uv.x, uv.y));
-    }
+    if (m->emissiveTexture > 0)
+        radiance = v3_mul(radiance, scene_texture(b, m->emissiveTexture, light->triangle, bary));
 #endif
     return radiance;
 }

@@ -28,8 +28,7 @@ INLINE vec3 mapped_normal(const RenderBuffers* b, __global const Material* m, in
     t = v3_div(t, tLength);
     float handedness = b->triTangents[3 * tri].w < 0.0f ? -1.0f : 1.0f;
     vec3 bitangent = v3_scale(v3_cross(n, t), handedness);
-    vec2 uv = surface_uv(b->triUVs, tri, bary);
-    vec3 c = texture_bilinear(b->textureTexels, &b->textures[m->normalTexture - 1], uv.x, uv.y);
+    vec3 c = scene_texture(b, m->normalTexture, tri, bary);
     vec3 mapped = v3_add(v3_add(v3_scale(t, (2.0f * c.x - 1.0f) * m->normalScale),
                                 v3_scale(bitangent, (2.0f * c.y - 1.0f) * m->normalScale)),
                          v3_scale(n, 2.0f * c.z - 1.0f));

@@ -30,7 +30,7 @@ INLINE SurfaceHit scene_surface_hit(const RenderBuffers* b, int tri, vec2 bary, 
 INLINE Bsdf surface_bsdf(const RenderBuffers* b, int tri, vec2 bary, vec3 woL, bool frontSide)
 {
     __global const Material* m = &b->materials[b->triMaterials[tri]];
-    SurfaceMaterial at = surface_material(m, b->textureTexels, b->textures, b->triUVs, tri, bary);
+    SurfaceMaterial at = surface_material(b, m, tri, bary);
     return make_bsdf(m, &at, woL, frontSide);
 }
 

@@ -7,6 +7,7 @@
 
 #include "core/vec3.h"
 #include "interface/inline.h"
+#include "interface/kernel_interface.h"
 #include "interface/shared_types.h"
 #include "materials/bsdf.h"
 
@@ -74,24 +75,49 @@ INLINE vec2 surface_uv(__global const float2* triUVs, int tri, vec2 bary)
     return v2(b0 * t0.x + bary.x * t1.x + bary.y * t2.x, b0 * t0.y + bary.x * t1.y + bary.y * t2.y);
 }
 
+/* Texture `index` (1 + its place in the table, as materials refer to it) at
+ * barycentrics `bary` of triangle `tri`, looked up at the texture
+ * coordinates it reads (TEXCOORD_0 or _1); colour, then alpha. */
+INLINE vec2 scene_texture_uv(const RenderBuffers* b, __global const TextureInfo* t, int tri, vec2 bary)
+{
+#ifdef HAS_TEXCOORD1
+    if (t->texCoord == 1)
+        return surface_uv(b->triUVs1, tri, bary);
+#endif
+    return surface_uv(b->triUVs, tri, bary);
+}
+
+INLINE vec3 scene_texture(const RenderBuffers* b, int index, int tri, vec2 bary)
+{
+    __global const TextureInfo* t = &b->textures[index - 1];
+    vec2 uv = scene_texture_uv(b, t, tri, bary);
+    return texture_bilinear(b->textureTexels, t, uv.x, uv.y);
+}
+
+INLINE float scene_texture_alpha(const RenderBuffers* b, int index, int tri, vec2 bary)
+{
+    __global const TextureInfo* t = &b->textures[index - 1];
+    vec2 uv = scene_texture_uv(b, t, tri, bary);
+    return texture_alpha(b->textureTexels, t, uv.x, uv.y);
+}
+
 /* What material m is on triangle `tri` at barycentrics `bary`: its factors
- * times its textures at the point's TEXCOORD_0 — the base-colour texture's
- * RGB, the metallic-roughness texture's B (metallic) and G (roughness). */
-INLINE SurfaceMaterial surface_material(__global const Material* m, __global const float4* texels,
-                                        __global const TextureInfo* textures, __global const float2* triUVs, int tri,
-                                        vec2 bary)
+ * times its textures there — the base-colour texture's RGB, the
+ * metallic-roughness texture's B (metallic) and G (roughness), the
+ * transmission texture's R. */
+INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const Material* m, int tri, vec2 bary)
 {
     SurfaceMaterial s = material_factors(m);
 #ifdef HAS_TEXTURES
-    vec2 uv = surface_uv(triUVs, tri, bary);
-    float u = uv.x, v = uv.y;
     if (m->baseColorTexture > 0)
-        s.baseColor = v3_mul(s.baseColor, texture_bilinear(texels, &textures[m->baseColorTexture - 1], u, v));
+        s.baseColor = v3_mul(s.baseColor, scene_texture(b, m->baseColorTexture, tri, bary));
     if (m->metallicRoughnessTexture > 0) {
-        vec3 mr = texture_bilinear(texels, &textures[m->metallicRoughnessTexture - 1], u, v);
+        vec3 mr = scene_texture(b, m->metallicRoughnessTexture, tri, bary);
         s.roughness *= mr.y;
         s.metallic *= mr.z;
     }
+    if (m->transmissionTexture > 0)
+        s.transmission *= scene_texture(b, m->transmissionTexture, tri, bary).x;
 #endif
     return s;
 }
