@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <unistd.h>
@@ -101,6 +102,23 @@ double blockMean(const Image& image, int size, int x0, int y0, int block, int c,
     return mean;
 }
 
+// Each corner block × block of a size × size image shows texel
+// texelAtCorner[corner] of `texture` (corners: top left, top right, bottom
+// left, bottom right) times L, within 5 standard errors of the block's mean.
+void expectCornersShow(const Image& image, int size, int block, const Texture& texture, float L,
+                       std::array<int, 4> texelAtCorner)
+{
+    for (int corner = 0; corner < 4; ++corner) {
+        int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
+        for (int c = 0; c < 3; ++c) {
+            double se, mean = blockMean(image, size, x0, y0, block, c, &se);
+            double expected = L * texture.image.rgb[3 * size_t(texelAtCorner[size_t(corner)]) + size_t(c)];
+            // 5 standard errors of the block's mean, and float rounding
+            EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
+        }
+    }
+}
+
 TEST_F(Textures, LoadDecodedWithWrapModesAndCoordinates)
 {
     Scene s = loadGltf(writeQuad("quad", {{"index", 0}}, {{"wrapS", 33071}, {"wrapT", 33648}}));
@@ -156,15 +174,7 @@ TEST_F(Textures, TexelsRenderWhereTheyLie)
         SCOPED_TRACE(algorithmName(a));
         test::Render r = test::render(device, s, a, size, size, 32, 5);
         EXPECT_EQ(r.nonFinite, 0u);
-        for (int corner = 0; corner < 4; ++corner) {
-            int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
-            for (int c = 0; c < 3; ++c) {
-                double se, mean = blockMean(r.image, size, x0, y0, block, c, &se);
-                double expected = L * s.textures[0].image.rgb[3 * size_t(corner) + size_t(c)];
-                // 5 standard errors of the block's mean, and float rounding
-                EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
-            }
-        }
+        expectCornersShow(r.image, size, block, s.textures[0], L, {0, 1, 2, 3});
     }
 }
 
@@ -192,15 +202,7 @@ TEST_F(Textures, TextureTransformMovesTheTexels)
     s.background = {L, L, L};
     const int size = 32, block = 8;
     test::Render r = test::render(test::devicesUnderTest()[0], s, Algorithm::PathTracing, size, size, 32, 5);
-    const int texelAtCorner[4] = {1, 3, 0, 2}; // top left, top right, bottom left, bottom right
-    for (int corner = 0; corner < 4; ++corner) {
-        int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
-        for (int c = 0; c < 3; ++c) {
-            double se, mean = blockMean(r.image, size, x0, y0, block, c, &se);
-            double expected = L * s.textures[0].image.rgb[3 * size_t(texelAtCorner[corner]) + size_t(c)];
-            EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
-        }
-    }
+    expectCornersShow(r.image, size, block, s.textures[0], L, {1, 3, 0, 2});
 }
 
 // A metallic-roughness texture: metallic 0 in the left column (a white
@@ -298,15 +300,7 @@ TEST_F(Textures, SecondTexCoordSetIsRead)
     s.background = {L, L, L};
     const int size = 32, block = 8;
     test::Render r = test::render(test::devicesUnderTest()[0], s, Algorithm::PathTracing, size, size, 32, 5);
-    const int texelAtCorner[4] = {1, 0, 3, 2}; // TEXCOORD_0 would show 0, 1, 2, 3
-    for (int corner = 0; corner < 4; ++corner) {
-        int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
-        for (int c = 0; c < 3; ++c) {
-            double se, mean = blockMean(r.image, size, x0, y0, block, c, &se);
-            double expected = L * s.textures[0].image.rgb[3 * size_t(texelAtCorner[corner]) + size_t(c)];
-            EXPECT_NEAR(mean, expected, 5 * se + 1e-4) << "corner " << corner << " channel " << c;
-        }
-    }
+    expectCornersShow(r.image, size, block, s.textures[0], L, {1, 0, 3, 2}); // TEXCOORD_0 would show 0, 1, 2, 3
 }
 
 } // namespace
