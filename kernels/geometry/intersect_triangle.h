@@ -94,7 +94,10 @@ INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* 
 #endif
     float4 det = U + V + W;
     int4 hit = !((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) && det != 0.0f &&
-               vload4(0, p->triangle) >= 0 && ((int4)(1, 2, 4, 8) & (int4)(excluded)) == (int4)(0);
+               vload4(0, p->triangle) >= 0;
+#ifdef HAS_ALPHA_TEST
+    hit = hit && ((int4)(1, 2, 4, 8) & (int4)(excluded)) == (int4)(0); /* only alpha testing excludes lanes */
+#endif
     if (!any(hit))
         return -1;
 
