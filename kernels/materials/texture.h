@@ -67,7 +67,8 @@ INLINE float texture_alpha(__global const float4* texels, __global const Texture
     return top * (1.0f - f.ay) + bottom * f.ay;
 }
 
-/* TEXCOORD_0 at barycentrics `bary` of triangle `tri`. */
+/* One set of texture coordinates (triUVs: TEXCOORD_0 or _1 per triangle
+ * corner) at barycentrics `bary` of triangle `tri`. */
 INLINE vec2 surface_uv(__global const float2* triUVs, int tri, vec2 bary)
 {
     vec2 t0 = load_vec2(triUVs, 3 * tri), t1 = load_vec2(triUVs, 3 * tri + 1), t2 = load_vec2(triUVs, 3 * tri + 2);

@@ -59,14 +59,8 @@ __kernel void generate_light(RENDER_KERNEL_PARAMS)
     vec3 beta = v3s(0.0f); /* a failed sample travels with nothing to carry and stores nothing */
     PathMis mis = {0.0f, 0.0f, 0.0f};
     bool finite = false;
-    Environment env = {envRadiance, envMarginalCdf, envConditionalCdf};
-    if (sample_emission(lights, lightCdf, triVertices, scene, &env, u, v, &e)) {
-#ifdef HAS_EMISSIVE_TEXTURES
-        if (lights[e.light].type == LIGHT_TRIANGLE) {
-            RenderBuffers b = RENDER_BUFFERS_VALUE;
-            e.radiance = triangle_emission(&b, &lights[e.light], e.bary);
-        }
-#endif
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
+    if (sample_scene_emission(&b, u, v, &e)) {
         finite = e.finite;
         float emissionPdfW = e.pdfPosition * e.pdfDirection;
         beta = v3_scale(e.radiance, e.cosAtLight / emissionPdfW);

@@ -60,12 +60,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
     if (alive && bsdf_has_nondelta(&bsdf)) {
         Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 0u);
         LightSample ls;
-        Environment env = {b->envRadiance, b->envMarginalCdf, b->envConditionalCdf};
-        if (sample_light(b->lights, b->lightCdf, b->triVertices, b->scene, &env, hit.p, u, &ls)) {
-#ifdef HAS_EMISSIVE_TEXTURES
-            if (ls.type == LIGHT_TRIANGLE)
-                ls.radiance = triangle_emission(b, &b->lights[b->triangleLight[ls.triangle]], ls.bary);
-#endif
+        if (sample_scene_light(b, hit.p, u, &ls)) {
             vec3 wiL = to_local(&hit.frame, ls.direction);
             if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfBsdf, pdfRev;
