@@ -12,6 +12,7 @@ packages=(
   mesa-opencl-icd                                          # rusticl: the second implementation the tests compare with
   libopenimageio-dev openimageio-tools                    # the tools: Debian's OpenImageIO CMake config requires them
   libtinygltf-dev nlohmann-json3-dev libcli11-dev
+  libdraco-dev                                             # Draco-compressed glTF meshes
   libgtest-dev libbenchmark-dev
   clang libclang-rt-dev                                    # the glTF loader's fuzz target (libFuzzer)
   libembree-dev                                            # optional: the ray benchmarks compare with Embree

@@ -4,17 +4,29 @@
 // and wv::Error (naming the file) for what is malformed or unsupported.
 // Ends with the bundled Cornell box.
 #include "Error.h"
+#include "TestDevices.h"
+#include "TestRendering.h"
+#include "image/Image.h"
+#include "scene/DracoMesh.h"
 #include "scene/GltfLoader.h"
+
+#ifdef WAVEVCM_HAVE_DRACO
+#include <draco/compression/encode.h>
+#include <draco/mesh/triangle_soup_mesh_builder.h>
+#endif
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -161,7 +173,7 @@ public:
         return (dir / (name + ".glb")).string();
     }
 
-private:
+    // Appends `value` to the array `key` (e.g. an accessor without a bufferView).
     int push(const char* key, const json& value)
     {
         j[key].push_back(value);
@@ -1049,6 +1061,212 @@ TEST_F(GltfLoader, LongTriangleStripKeepsOneWindingThroughout)
     for (size_t t = 0; t < s.triangleCount(); ++t) EXPECT_TRUE(near(triangleNormal(s, t), {0, 0, 1})) << t;
 }
 
+// ------------------------------------------------ one mesh, five encodings
+
+// An octagon on the integer grid [0, 64]² (z = 0, counter-clockwise seen from
+// +z) as quantizing exporters store it; kOctagonScale makes it 2 units wide.
+// As floats, ring[i] × kOctagonScale exactly (a power of two).
+const std::vector<uint16_t> kOctagonGrid = {16, 0, 0, 48, 0, 0, 64, 16, 0, 64, 48, 0,
+                                            48, 64, 0, 16, 64, 0, 0, 48, 0, 0, 16, 0};
+constexpr double kOctagonScale = 1.0 / 32;
+
+std::vector<Vec3> octagonRing()
+{
+    std::vector<Vec3> ring;
+    for (size_t i = 0; i < kOctagonGrid.size(); i += 3)
+        ring.push_back(Vec3(float(kOctagonGrid[i] * kOctagonScale), float(kOctagonGrid[i + 1] * kOctagonScale), 0));
+    return ring;
+}
+
+// glTF's fan of the ring: triangles (r_{i+1}, r_{i+2}, r_0).
+std::vector<uint16_t> octagonFanTriangles()
+{
+    std::vector<uint16_t> t;
+    for (uint16_t i = 0; i + 2 < 8; ++i) t.insert(t.end(), {uint16_t(i + 1), uint16_t(i + 2), 0});
+    return t;
+}
+
+#ifdef WAVEVCM_HAVE_DRACO
+// The octagon's triangle list, with TEXCOORD_0 = (x, y) / 2, encoded by
+// Draco without quantization (lossless); the ids of POSITION and TEXCOORD_0.
+std::vector<unsigned char> dracoOctagon(int* positionId, int* uvId)
+{
+    std::vector<Vec3> ring = octagonRing();
+    std::vector<uint16_t> tri = octagonFanTriangles();
+    draco::TriangleSoupMeshBuilder builder;
+    builder.Start(int(tri.size() / 3));
+    *positionId = builder.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
+    *uvId = builder.AddAttribute(draco::GeometryAttribute::TEX_COORD, 2, draco::DT_FLOAT32);
+    for (size_t f = 0; f < tri.size() / 3; ++f) {
+        const Vec3 &a = ring[tri[3 * f]], &b = ring[tri[3 * f + 1]], &c = ring[tri[3 * f + 2]];
+        float ua[2] = {a.x / 2, a.y / 2}, ub[2] = {b.x / 2, b.y / 2}, uc[2] = {c.x / 2, c.y / 2};
+        builder.SetAttributeValuesForFace(*positionId, draco::FaceIndex(uint32_t(f)), &a.x, &b.x, &c.x);
+        builder.SetAttributeValuesForFace(*uvId, draco::FaceIndex(uint32_t(f)), ua, ub, uc);
+    }
+    std::unique_ptr<draco::Mesh> mesh = builder.Finalize();
+    draco::Encoder encoder;
+    draco::EncoderBuffer out;
+    EXPECT_TRUE(encoder.EncodeMeshToBuffer(*mesh, &out).ok());
+    return std::vector<unsigned char>(out.data(), out.data() + out.size());
+}
+#endif
+
+enum class Encoding { List, Fan, Strip, Quantized, Draco };
+
+// The octagon, tilted 60° about x and lifted over a 6 × 6 floor (both grey
+// Lambert) under a white background, in one encoding: a triangle list of the fan's triangles; a
+// TRIANGLE_FAN; a TRIANGLE_STRIP zigzagging across it (other triangles, the
+// same surface); unsigned shorts placed by a child node's scale
+// (KHR_mesh_quantization); the list compressed by Draco.
+GltfBuilder octagonScene(Encoding encoding)
+{
+    GltfBuilder b;
+    int material = b.addMaterial(
+        {{"pbrMetallicRoughness", {{"baseColorFactor", {0.7, 0.7, 0.7, 1.0}}, {"metallicFactor", 0.0}}}});
+    int floor = b.addVec3s({{-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {-3, 0, -3}, {3, 0, 3}, {3, 0, -3}});
+    b.addNode({{"mesh", b.addMesh({primitive(floor, -1, -1, material)})}});
+
+    json octagon;
+    json::array_t children;
+    if (encoding == Encoding::Quantized) {
+        int q = b.addAccessor(b.addView(kOctagonGrid.data(), kOctagonGrid.size() * 2), kUnsignedShort, "VEC3", 8);
+        octagon = primitive(q, -1, b.addIndices<uint16_t>(octagonFanTriangles()), material);
+        b.j["extensionsUsed"] = {"KHR_mesh_quantization"};
+        b.j["extensionsRequired"] = {"KHR_mesh_quantization"};
+    } else if (encoding == Encoding::Draco) {
+#ifdef WAVEVCM_HAVE_DRACO
+        int positionId, uvId;
+        std::vector<unsigned char> data = dracoOctagon(&positionId, &uvId);
+        int view = b.addView(data.data(), data.size());
+        // Accessors of compressed data have no bufferView.
+        int p = b.push("accessors", {{"componentType", kFloat}, {"type", "VEC3"}, {"count", 8},
+                                     {"min", {0, 0, 0}}, {"max", {2, 2, 0}}});
+        int uv = b.push("accessors", {{"componentType", kFloat}, {"type", "VEC2"}, {"count", 8}});
+        int indices = b.push("accessors", {{"componentType", kUnsignedShort}, {"type", "SCALAR"}, {"count", 18}});
+        octagon = primitive(p, -1, indices, material);
+        octagon["attributes"]["TEXCOORD_0"] = uv;
+        octagon["extensions"]["KHR_draco_mesh_compression"] = {
+            {"bufferView", view}, {"attributes", {{"POSITION", positionId}, {"TEXCOORD_0", uvId}}}};
+        b.j["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+        b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+#endif
+    } else {
+        std::vector<Vec3> ring = octagonRing();
+        if (encoding == Encoding::Strip) // r0 r1 r7 r2 r6 r3 r5 r4
+            ring = {ring[0], ring[1], ring[7], ring[2], ring[6], ring[3], ring[5], ring[4]};
+        int p = b.addVec3s(ring);
+        octagon = primitive(p, -1, encoding == Encoding::List ? b.addIndices<uint16_t>(octagonFanTriangles()) : -1, material);
+        if (encoding != Encoding::List) octagon["mode"] = encoding == Encoding::Fan ? 6 : 5;
+    }
+    int mesh = b.addMesh({octagon});
+    json tilted = {{"rotation", {std::sin(M_PI / 6), 0, 0, std::cos(M_PI / 6)}}, {"translation", {-1, 0.5, 0}}};
+    if (encoding == Encoding::Quantized)
+        tilted["children"] = {b.addNode({{"mesh", mesh}, {"scale", {kOctagonScale, kOctagonScale, kOctagonScale}}},
+                                        false)};
+    else
+        tilted["mesh"] = mesh;
+    b.addNode(tilted);
+    b.addNode({{"camera", 0}, {"translation", {0, 3, 4}}, {"rotation", {-std::sin(0.3), 0, 0, std::cos(0.3)}}});
+    b.j["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}}}}};
+    b.j["scenes"][0]["extras"]["background"] = {1, 1, 1};
+    return b;
+}
+
+// Triangles as sorted lists of their corners (after a cyclic rotation that
+// puts the smallest corner first, so the winding is kept), for comparing
+// meshes whose triangles come in another order.
+std::vector<std::array<float, 9>> canonicalTriangles(const Scene& s)
+{
+    std::vector<std::array<float, 9>> out;
+    for (size_t t = 0; t < s.triangleCount(); ++t) {
+        std::array<std::array<float, 3>, 3> c;
+        for (int k = 0; k < 3; ++k) c[k] = {s.vertices[3 * t + k].x, s.vertices[3 * t + k].y, s.vertices[3 * t + k].z};
+        int first = int(std::min_element(c.begin(), c.end()) - c.begin());
+        std::array<float, 9> tri;
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a) tri[3 * k + a] = c[(first + k) % 3][a];
+        out.push_back(tri);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// KHR_draco_mesh_compression: the decoded triangles are the list's exactly
+// (lossless encoding), windings kept, TEXCOORD_0 decoded beside them.
+TEST_F(GltfLoader, DracoCompressedMeshGivesTheTrianglesOfTheList)
+{
+    if (!dracoSupported()) GTEST_SKIP() << "built without Draco (libdraco-dev)";
+    GltfBuilder list = octagonScene(Encoding::List), draco = octagonScene(Encoding::Draco);
+    Scene a = load(list, "list"), d = load(draco, "draco");
+    EXPECT_TRUE(d.warnings.empty() || !anyWarningContains(d, "Draco")) << d.warnings.front();
+    EXPECT_EQ(d.triangleCount(), a.triangleCount());
+    EXPECT_EQ(canonicalTriangles(d), canonicalTriangles(a));
+    for (size_t t = 2; t < d.triangleCount(); ++t) // the floor's two first, then the octagon's
+        EXPECT_TRUE(near(triangleNormal(d, t), triangleNormal(a, 2), 1e-6f)) << t;
+    GltfBuilder glb = octagonScene(Encoding::Draco);
+    EXPECT_EQ(canonicalTriangles(loadGltf(glb.writeGlb(dir_, "draco"))), canonicalTriangles(a)) << "as .glb";
+
+#ifdef WAVEVCM_HAVE_DRACO
+    // TEXCOORD_0 beside the positions: (x, y) / 2 at every decoded point.
+    int positionId, uvId;
+    std::vector<unsigned char> data = dracoOctagon(&positionId, &uvId);
+    DracoMesh m = decodeDraco(data.data(), data.size(), {{positionId, 3}, {uvId, 2}});
+    ASSERT_EQ(m.points, 8u);
+    ASSERT_EQ(m.indices.size(), 18u);
+    for (size_t i = 0; i < m.points; ++i) {
+        EXPECT_EQ(m.attributes[uvId][2 * i], m.attributes[positionId][3 * i] / 2) << i;
+        EXPECT_EQ(m.attributes[uvId][2 * i + 1], m.attributes[positionId][3 * i + 1] / 2) << i;
+    }
+#endif
+}
+
+TEST_F(GltfLoader, DracoErrorsNameTheExtension)
+{
+    if (!dracoSupported()) GTEST_SKIP() << "built without Draco (libdraco-dev)";
+    GltfBuilder truncated = octagonScene(Encoding::Draco);
+    size_t length = truncated.j["bufferViews"].back()["byteLength"];
+    truncated.j["bufferViews"].back()["byteLength"] = length / 2;
+    expectLoadError(truncated.writeGltf(dir_, "truncated"), "KHR_draco_mesh_compression: Draco cannot decode it");
+
+    GltfBuilder notDraco = octagonScene(Encoding::Draco);
+    notDraco.j["meshes"].back()["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"] = 0;
+    expectLoadError(notDraco.writeGltf(dir_, "notdraco"), "not Draco data");
+
+    GltfBuilder badView = octagonScene(Encoding::Draco);
+    badView.j["meshes"].back()["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"] = 99;
+    expectLoadError(badView.writeGltf(dir_, "badview"), "bufferView out of range");
+
+    GltfBuilder badId = octagonScene(Encoding::Draco);
+    badId.j["meshes"].back()["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]["POSITION"] = 7;
+    expectLoadError(badId.writeGltf(dir_, "badid"), "no attribute 7");
+}
+
+// What a viewer shows must not depend on how the mesh is stored: the same
+// seed renders the same image (pt, the octagon's shading and its shadow on
+// the floor) from every encoding. The fan and the quantized mesh give the
+// list's triangles bit for bit; Draco gives them in another order (another
+// BVH) and the strip cuts the same plane into other triangles, so their hits
+// may differ by float rounding: relMSE ~1e-16 measured. The bound, 1e-10, is
+// far below what a wrong mesh gives: one strip vertex moved by 1/32 (a grid
+// step) measured 5e-6.
+TEST_F(GltfLoader, EveryEncodingOfOneMeshRendersTheSameImage)
+{
+    DeviceInfo device = test::devicesUnderTest()[0];
+    auto renderOf = [&](Encoding e, const std::string& name) {
+        GltfBuilder b = octagonScene(e);
+        return test::render(device, load(b, name), Algorithm::PathTracing, 64, 48, 2, 7).image;
+    };
+    Image plain = renderOf(Encoding::List, "list");
+    std::vector<std::pair<Encoding, std::string>> others = {
+        {Encoding::Fan, "fan"}, {Encoding::Strip, "strip"}, {Encoding::Quantized, "quantized"}};
+    if (dracoSupported()) others.emplace_back(Encoding::Draco, "draco");
+    for (const auto& [encoding, name] : others) {
+        ImageDifference d = compareImages(renderOf(encoding, name), plain);
+        EXPECT_LE(d.relMse, 1e-10) << name;
+        std::printf("%s relMSE %g\n", name.c_str(), d.relMse);
+    }
+}
+
 TEST_F(GltfLoader, Gltf1IsRefusedByName)
 {
     fs::path path = dir_ / "old.gltf";
@@ -1097,9 +1315,9 @@ TEST_F(GltfLoader, HasLightSeesEachKindOfLight)
 TEST_F(GltfLoader, RequiredUnsupportedExtensionThrows)
 {
     GltfBuilder b = oneTriangle();
-    b.j["extensionsUsed"] = {"KHR_draco_mesh_compression"};
-    b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-    expectLoadError(b.writeGltf(dir_, "scene"), "KHR_draco_mesh_compression");
+    b.j["extensionsUsed"] = {"EXT_meshopt_compression"};
+    b.j["extensionsRequired"] = {"EXT_meshopt_compression"};
+    expectLoadError(b.writeGltf(dir_, "scene"), "required extension EXT_meshopt_compression is not supported");
 }
 
 TEST_F(GltfLoader, UsedUnsupportedExtensionWarns)

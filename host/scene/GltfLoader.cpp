@@ -1,6 +1,7 @@
 #include "GltfLoader.h"
 
 #include "../Error.h"
+#include "DracoMesh.h"
 
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
@@ -11,6 +12,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
@@ -175,6 +178,14 @@ private:
     // `srgb`: its values are sRGB-encoded colour (else linear data).
     int sceneTexture(const tinygltf::TextureInfo& info, const std::string& material, const char* kind, bool srgb);
 
+    // KHR_draco_mesh_compression (see hideDracoIndices): decodes mesh m's
+    // primitive p once; its attributes' accessors then read from
+    // dracoFloats_, its triangles are dracoTriangles_[{m, p}].
+    std::string hideDracoIndices(const std::string& json);
+    std::vector<unsigned char> hideDracoIndicesJson(const std::vector<unsigned char>& file);
+    std::vector<unsigned char> hideDracoIndicesGlb(const std::vector<unsigned char>& file);
+    void decodeDracoPrimitive(int mesh, int p, const std::string& what);
+
     // Reads an accessor's elements: `components` floats each (VECn), as
     // Vec3, as texture coordinates, or as indices.
     std::vector<float> readFloats(int accessorIndex, int components, const std::string& what);
@@ -195,6 +206,8 @@ private:
     // (glTF texture, sRGB, uv transform, TEXCOORD set) → 1 + index in scene_.textures
     std::map<std::tuple<int, bool, std::array<float, 6>, int>, int> sceneTexture_;
     bool texCoord1_ = false; // some texture reads TEXCOORD_1: triangles keep that set too
+    std::map<std::pair<int, int>, std::vector<uint32_t>> dracoTriangles_; // (mesh, primitive) → decoded indices
+    std::map<int, std::vector<float>> dracoFloats_;                      // accessor → its decoded elements
 };
 
 bool decodeGltfImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
@@ -234,6 +247,68 @@ void Loader::checkVersion(bool binary)
         fail("glTF " + version + " is not supported (only glTF 2.0): convert the file to glTF 2.0");
 }
 
+// KHR_draco_mesh_compression: the accessors of compressed data have no
+// bufferView, and tinygltf (built without Draco, as Debian's is) refuses a
+// primitive whose indices accessor has none. So before tinygltf parses the
+// JSON, each compressed primitive's "indices" is taken out (the decoded
+// triangles replace it), and the loader decodes the data itself
+// (decodeDracoPrimitive), checking everything tinygltf's own decoder takes on
+// trust. Malformed JSON is passed on unchanged, for tinygltf to report.
+std::string Loader::hideDracoIndices(const std::string& text)
+{
+    nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+    if (!j.is_object() || !j.contains("meshes") || !j["meshes"].is_array()) return text;
+    bool changed = false;
+    for (size_t m = 0; m < j["meshes"].size(); ++m) {
+        nlohmann::json& mesh = j["meshes"][m];
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+        for (size_t p = 0; p < mesh["primitives"].size(); ++p) {
+            nlohmann::json& prim = mesh["primitives"][p];
+            if (!prim.is_object() || !prim.contains("extensions") || !prim["extensions"].is_object() ||
+                !prim["extensions"].contains("KHR_draco_mesh_compression") || !prim.contains("indices"))
+                continue;
+            prim.erase("indices");
+            changed = true;
+        }
+    }
+    return changed ? j.dump() : text;
+}
+
+std::vector<unsigned char> Loader::hideDracoIndicesJson(const std::vector<unsigned char>& file)
+{
+    std::string text = hideDracoIndices(std::string(file.begin(), file.end()));
+    return std::vector<unsigned char>(text.begin(), text.end());
+}
+
+// A .glb: 12-byte header, the JSON chunk, then the others (BIN), each chunk
+// a length, a type and 4-byte-aligned data; rebuilt around the new JSON.
+std::vector<unsigned char> Loader::hideDracoIndicesGlb(const std::vector<unsigned char>& file)
+{
+    auto u32 = [&](size_t at) {
+        uint32_t v;
+        std::memcpy(&v, &file[at], 4);
+        return v;
+    };
+    if (file.size() < 20 || std::memcmp(file.data(), "glTF", 4) != 0 || u32(16) != 0x4E4F534A) return file;
+    size_t jsonLength = u32(12);
+    if (jsonLength > file.size() - 20) return file; // tinygltf says what is wrong
+    std::string text = hideDracoIndices(std::string(file.begin() + 20, file.begin() + 20 + long(jsonLength)));
+    while (text.size() % 4) text += ' ';
+    std::vector<unsigned char> out(file.begin(), file.begin() + 12);
+    auto put = [&](uint32_t v) {
+        unsigned char b[4];
+        std::memcpy(b, &v, 4);
+        out.insert(out.end(), b, b + 4);
+    };
+    put(uint32_t(text.size()));
+    put(0x4E4F534A);
+    out.insert(out.end(), text.begin(), text.end());
+    out.insert(out.end(), file.begin() + 20 + long(jsonLength), file.end());
+    uint32_t total = uint32_t(out.size());
+    std::memcpy(&out[8], &total, 4);
+    return out;
+}
+
 void Loader::load()
 {
     namespace fs = std::filesystem;
@@ -241,21 +316,32 @@ void Loader::load()
     if (!fs::exists(path_, ec)) throw Error(path_ + ": no such file");
     if (!fs::is_regular_file(path_, ec)) throw Error(path_ + ": not a regular file");
 
+    std::ifstream in(path_, std::ios::binary);
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) fail("cannot read the file");
+    if (bytes.size() > std::numeric_limits<unsigned>::max()) fail("files over 4 GiB are not supported");
+    std::string ext = fs::path(path_).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const bool binary = ext == ".glb";
+    static const std::string draco = "KHR_draco_mesh_compression";
+    if (std::search(bytes.begin(), bytes.end(), draco.begin(), draco.end()) != bytes.end())
+        bytes = binary ? hideDracoIndicesGlb(bytes) : hideDracoIndicesJson(bytes);
+
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(decodeGltfImage, &images_);
     std::string err, warn;
-    std::string ext = fs::path(path_).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string baseDir = fs::path(path_).parent_path().string();
     bool ok = false;
     try {
-        ok = ext == ".glb" ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_)
-                           : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
+        ok = binary ? gltf.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir)
+                    : gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                               unsigned(bytes.size()), baseDir);
     } catch (const std::exception& e) {
-        checkVersion(ext == ".glb");
+        checkVersion(binary);
         fail(std::string("cannot parse glTF: ") + e.what());
     }
     if (!ok || !err.empty()) {
-        checkVersion(ext == ".glb");
+        checkVersion(binary);
         while (!err.empty() && err.back() == '\n') err.pop_back();
         fail("cannot parse glTF: " + (err.empty() ? std::string("unknown error") : err));
     }
@@ -280,17 +366,22 @@ void Loader::load()
 
 const std::set<std::string>& supportedExtensions()
 {
-    static const std::set<std::string> s{
-        "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_transmission",
-        "KHR_materials_ior", "KHR_materials_volume", "KHR_lights_punctual", "KHR_mesh_quantization",
-        "KHR_texture_transform"};
+    static const std::set<std::string> s = [] {
+        std::set<std::string> names{"KHR_materials_emissive_strength", "KHR_materials_specular",
+                                    "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
+                                    "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_texture_transform"};
+        if (dracoSupported()) names.insert("KHR_draco_mesh_compression");
+        return names;
+    }();
     return s;
 }
 
 void Loader::checkExtensions()
 {
     for (const std::string& e : model_.extensionsRequired)
-        if (!supportedExtensions().count(e)) fail("required extension " + e + " is not supported");
+        if (!supportedExtensions().count(e))
+            fail("required extension " + e + " is not supported" +
+                 (e == "KHR_draco_mesh_compression" ? ": this build has no Draco (install libdraco-dev and rebuild)" : ""));
     for (const std::string& e : model_.extensionsUsed)
         if (!supportedExtensions().count(e)) warn("extension " + e + " is not supported and is ignored");
 }
@@ -572,12 +663,14 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
         if (determinant3(world) == 0) continue; // a zero-scale instance, which addMesh skips
         const std::vector<tinygltf::Primitive>& primitives = model_.meshes[meshIndex].primitives;
         for (size_t p = 0; p < primitives.size(); ++p) {
+            if (primitives[p].mode >= 0 && primitives[p].mode < TINYGLTF_MODE_TRIANGLES) continue; // skipped by addMesh
             auto pos = primitives[p].attributes.find("POSITION");
             if (pos == primitives[p].attributes.end()) continue;
             auto known = localBounds.find(pos->second);
             if (known == localBounds.end()) {
                 Bounds box;
                 std::string what = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
+                decodeDracoPrimitive(meshIndex, int(p), what);
                 for (const Vec3& v : readVec3(pos->second, what + " POSITION"))
                     if (isFinite(v)) box.extend(v); // addMesh rejects the others
                 known = localBounds.emplace(pos->second, box).first;
@@ -629,14 +722,60 @@ const unsigned char* Loader::accessorData(const tinygltf::Accessor& a, size_t el
     return buffer.data.data() + view.byteOffset + a.byteOffset;
 }
 
+void Loader::decodeDracoPrimitive(int meshIndex, int p, const std::string& what)
+{
+    const tinygltf::Primitive& prim = model_.meshes[size_t(meshIndex)].primitives[size_t(p)];
+    const tinygltf::Value* e = extension(prim.extensions, "KHR_draco_mesh_compression");
+    if (!e || dracoTriangles_.count({meshIndex, p})) return; // not compressed, or decoded already
+    const std::string where = what + ": KHR_draco_mesh_compression";
+    if (!dracoSupported()) fail(where + ": this build has no Draco (install libdraco-dev and rebuild)");
+    if (!e->IsObject() || !e->Has("bufferView") || !e->Get("bufferView").IsInt() || !e->Has("attributes") ||
+        !e->Get("attributes").IsObject())
+        fail(where + " needs an integer bufferView and an attributes object");
+    if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) fail(where + ": only TRIANGLES primitives can be compressed");
+    // The semantics this loader reads, each with its accessor and Draco attribute id.
+    std::map<int, int> components;
+    std::vector<std::pair<int, int>> accessorOfId;
+    for (const char* semantic : {"POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1"}) {
+        if (!e->Get("attributes").Has(semantic)) continue;
+        const tinygltf::Value& id = e->Get("attributes").Get(semantic);
+        auto accessor = prim.attributes.find(semantic);
+        if (!id.IsInt() || id.GetNumberAsInt() < 0 || accessor == prim.attributes.end() || accessor->second < 0 ||
+            size_t(accessor->second) >= model_.accessors.size())
+            fail(where + ": attribute " + semantic + " needs a Draco id and a valid accessor of the primitive");
+        int type = model_.accessors[size_t(accessor->second)].type;
+        if (type < TINYGLTF_TYPE_VEC2 || type > TINYGLTF_TYPE_VEC4) fail(where + ": " + semantic + " is not a VEC2, VEC3 or VEC4");
+        components[id.GetNumberAsInt()] = type; // tinygltf's VECn is n
+        accessorOfId.emplace_back(id.GetNumberAsInt(), accessor->second);
+    }
+    int viewIndex = e->Get("bufferView").GetNumberAsInt();
+    if (viewIndex < 0 || size_t(viewIndex) >= model_.bufferViews.size()) fail(where + ": bufferView out of range");
+    const tinygltf::BufferView& view = model_.bufferViews[size_t(viewIndex)];
+    if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size()) fail(where + ": its bufferView has no valid buffer");
+    const std::vector<unsigned char>& buffer = model_.buffers[size_t(view.buffer)].data;
+    if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
+        fail(where + ": bufferView " + std::to_string(viewIndex) + " extends past the end of its buffer");
+    DracoMesh mesh;
+    try {
+        mesh = decodeDraco(buffer.data() + view.byteOffset, view.byteLength, components);
+    } catch (const std::exception& ex) {
+        fail(where + ": " + ex.what());
+    }
+    for (uint32_t i : mesh.indices)
+        if (i >= mesh.points) fail(where + ": the decoded mesh has an index out of range");
+    for (const auto& [id, accessor] : accessorOfId) dracoFloats_[accessor] = std::move(mesh.attributes[id]);
+    dracoTriangles_[{meshIndex, p}] = std::move(mesh.indices);
+}
+
 std::vector<float> Loader::readFloats(int accessorIndex, int components, const std::string& what)
 {
     if (accessorIndex < 0 || size_t(accessorIndex) >= model_.accessors.size())
         fail(what + ": accessor index " + std::to_string(accessorIndex) + " out of range");
     const tinygltf::Accessor& a = model_.accessors[accessorIndex];
-    const int type = components == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4;
-    const std::string name = components == 3 ? "VEC3" : "VEC4";
-    if (a.type != type) fail(what + ": expected a " + name);
+    const std::string name = "VEC" + std::to_string(components);
+    if (a.type != components) fail(what + ": expected a " + name); // tinygltf's VECn is n
+    auto decoded = dracoFloats_.find(accessorIndex);
+    if (decoded != dracoFloats_.end()) return decoded->second;
     // Floats, or (KHR_mesh_quantization) 8- and 16-bit integers, as values
     // or normalized: unsigned c / (2^n − 1), signed max(c / (2^(n−1) − 1), −1).
     size_t size;
@@ -690,35 +829,9 @@ std::vector<Vec3> Loader::readVec3(int accessorIndex, const std::string& what)
 
 std::vector<float> Loader::readTexCoords(int accessorIndex, const std::string& what)
 {
-    if (accessorIndex < 0 || size_t(accessorIndex) >= model_.accessors.size())
-        fail(what + ": accessor index " + std::to_string(accessorIndex) + " out of range");
-    const tinygltf::Accessor& a = model_.accessors[accessorIndex];
-    if (a.type != TINYGLTF_TYPE_VEC2) fail(what + ": expected a VEC2");
-    bool unorm = a.normalized && (a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                  a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
-    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !unorm)
-        fail(what + ": texture coordinates must be floats or normalized unsigned bytes or shorts");
-    size_t size = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ? 4
-                  : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2 : 1;
-    size_t stride;
-    const unsigned char* data = accessorData(a, 2 * size, &stride, what);
-    std::vector<float> out(2 * a.count);
-    for (size_t i = 0; i < a.count; ++i)
-        for (size_t c = 0; c < 2; ++c) {
-            const unsigned char* p = data + i * stride + c * size;
-            float v;
-            if (size == 4) {
-                std::memcpy(&v, p, 4);
-            } else if (size == 2) {
-                uint16_t u;
-                std::memcpy(&u, p, 2);
-                v = float(u) / 65535.0f;
-            } else {
-                v = float(p[0]) / 255.0f;
-            }
-            if (!std::isfinite(v)) fail(what + ": TEXCOORD_0 contains NaN or Inf");
-            out[2 * i + c] = v;
-        }
+    std::vector<float> out = readFloats(accessorIndex, 2, what);
+    for (float v : out)
+        if (!std::isfinite(v)) fail(what + " contains NaN or Inf");
     return out;
 }
 
@@ -813,6 +926,7 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             continue;
         }
         if (!prim.targets.empty()) warnOnce("morph targets are not supported; base geometry is used");
+        decodeDracoPrimitive(meshIndex, int(p), what);
         auto pos = prim.attributes.find("POSITION");
         if (pos == prim.attributes.end()) fail(what + ": no POSITION attribute");
         std::vector<Vec3> positions = readVec3(pos->second, what + " POSITION");
@@ -833,7 +947,11 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             if (uvSets[set].size() != 2 * positions.size()) fail(what + ": " + name + " and POSITION counts differ");
         }
         std::vector<uint32_t> indices;
-        if (prim.indices >= 0) {
+        auto draco = dracoTriangles_.find({meshIndex, int(p)});
+        if (draco != dracoTriangles_.end()) {
+            if (!dracoFloats_.count(pos->second)) fail(what + ": POSITION is not among the Draco-compressed attributes");
+            indices = draco->second; // within the decoded points, as decodeDracoPrimitive checked
+        } else if (prim.indices >= 0) {
             indices = readIndices(prim.indices);
             for (uint32_t i : indices)
                 if (i >= positions.size())
