@@ -719,6 +719,14 @@ TEST_F(GltfLoader, MaterialIor1GlassHasNoReflection)
     EXPECT_EQ(m.lobes, LOBE_DELTA_TRANSMISSION);
 }
 
+// doubleSided: an emitter then emits from both faces (Light::sides, tested
+// in DoubleSidedEmitterTest); glTF's default is one-sided.
+TEST_F(GltfLoader, MaterialDoubleSided)
+{
+    EXPECT_EQ(loadMaterial({{"doubleSided", true}, {"emissiveFactor", {1, 1, 1}}}).doubleSided, 1);
+    EXPECT_EQ(loadMaterial({{"emissiveFactor", {1, 1, 1}}}).doubleSided, 0);
+}
+
 TEST_F(GltfLoader, MaterialIorBelowOneThrows)
 {
     GltfBuilder b = oneTriangle();

@@ -1,8 +1,9 @@
 // The MIS weights of all techniques that sample one path sum to one: vertex
 // connection and merging's recursive quantities (kernels/transport/mis.h) must
 // reproduce, for every way of splitting a path, the same set of pdf ratios.
-// Fixed random paths of 2 to 6 segments over Lambertian vertices from a
-// triangle light to the camera; every technique VCM has: emission hit,
+// Fixed random paths of 2 to 6 segments over Lambertian vertices (each with a
+// shading normal apart from its geometric one) from a triangle light to the
+// camera; every technique VCM has: emission hit,
 // next-event estimation, the connections, light tracing to the camera, and a
 // merge at every interior vertex; for merge radii from tiny to large.
 #include "TestDevices.h"
@@ -44,7 +45,8 @@ TEST(Mis, WeightsOfAllTechniquesSumToOne)
         view.forward = {0, 0, -1};
         view.yfov = 1.0f;
         Camera camera = makeCamera(view, 64, 64);
-        std::vector<std::array<float, 4>> positions, normals;
+        std::vector<std::array<float, 4>> positions, normals, shadingNormals;
+        int tilted = 0; // interior vertices whose shading normal differs
         for (int p = 0; p < pathCount; ++p) {
             std::vector<Vec3> z(size_t(k) + 1);
             z[size_t(k)] = {0, 0, 0};
@@ -54,13 +56,28 @@ TEST(Mis, WeightsOfAllTechniquesSumToOne)
                 Vec3 n(0, 0, 1);
                 if (j == 0) n = normalize(normalize(z[1] - z[0]) + Vec3(0.3f * u(rng), 0.3f * u(rng), 0.3f * u(rng)));
                 else if (j < k) n = normalize(normalize(z[size_t(j) - 1] - z[size_t(j)]) + normalize(z[size_t(j) + 1] - z[size_t(j)]));
+                // Interior vertices: a shading normal up to ~25° from the
+                // geometric one, with both path directions above it.
+                Vec3 ns = n;
+                for (int tries = 0; j > 0 && j < k && tries < 20; ++tries) {
+                    Vec3 candidate = normalize(n + Vec3(0.45f * u(rng), 0.45f * u(rng), 0.45f * u(rng)));
+                    if (dot(candidate, normalize(z[size_t(j) - 1] - z[size_t(j)])) > 0.1f &&
+                        dot(candidate, normalize(z[size_t(j) + 1] - z[size_t(j)])) > 0.1f) {
+                        ns = candidate;
+                        break;
+                    }
+                }
+                tilted += dot(ns, n) < 0.999f;
                 positions.push_back({z[size_t(j)].x, z[size_t(j)].y, z[size_t(j)].z, 0});
                 normals.push_back({n.x, n.y, n.z, 0});
+                shadingNormals.push_back({ns.x, ns.y, ns.z, 0});
             }
         }
         cl::Buffer cameraBuffer = uploadBuffer(device, &camera, sizeof camera, "camera");
         cl::Buffer positionBuffer = uploadBuffer(device, positions.data(), positions.size() * 16, "positions");
         cl::Buffer normalBuffer = uploadBuffer(device, normals.data(), normals.size() * 16, "normals");
+        cl::Buffer shadingBuffer = uploadBuffer(device, shadingNormals.data(), shadingNormals.size() * 16, "shading");
+        EXPECT_GT(tilted, pathCount * (k - 1) * 9 / 10) << "most interior vertices have a shading normal of their own";
         cl::Buffer sums = deviceBuffer(device, pathCount * 4, "sums"), counts = deviceBuffer(device, pathCount * 4, "n");
         for (float radius : {1e-4f, 1e-2f, 0.3f}) {
             SCOPED_TRACE("k = " + std::to_string(k) + ", radius " + std::to_string(radius));
@@ -72,6 +89,7 @@ TEST(Mis, WeightsOfAllTechniquesSumToOne)
             kernel.setArg(arg++, material);
             kernel.setArg(arg++, positionBuffer);
             kernel.setArg(arg++, normalBuffer);
+            kernel.setArg(arg++, shadingBuffer);
             kernel.setArg(arg++, k);
             kernel.setArg(arg++, pathCount);
             kernel.setArg(arg++, lightArea);

@@ -17,7 +17,7 @@ static double power(const Light& l, double sceneRadius, const EnvironmentLight& 
     case LIGHT_POINT: return 4 * pi * lum;
     case LIGHT_SPOT: return 2 * pi * lum * (1 - 0.5 * (l.cosInnerCone + l.cosOuterCone));
     case LIGHT_DIRECTIONAL: return lum * pi * sceneRadius * sceneRadius;
-    case LIGHT_TRIANGLE: return pi * lum * l.area;
+    case LIGHT_TRIANGLE: return pi * lum * l.area * l.sides;
     case LIGHT_BACKGROUND: // emission scales the map's radiance, or is the uniform radiance
         return pi * sceneRadius * sceneRadius * lum * (environment.width > 0 ? environment.luminanceIntegral : 4 * pi);
     }
@@ -68,6 +68,7 @@ LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
         l.type = LIGHT_TRIANGLE;
         l.triangle = int(i);
         l.area = area;
+        l.sides = m.doubleSided ? 2 : 1;
         for (int c = 0; c < 3; ++c) l.emission[c] = m.emission[c];
         t.triangleLight[i] = int(t.lights.size());
         t.lights.push_back(l);

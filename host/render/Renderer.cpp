@@ -312,36 +312,44 @@ void Renderer::iterate()
         runPhase(cameraPhase_, 0, pixels_);
     } else {
         bool splats = settings_.algorithm == Algorithm::LightTracing || useVC_;
-        // Light paths go in batches whose vertices fit on the device; each
-        // batch's camera paths connect to them. Light tracing splats onto any
-        // pixel, so a batch whose splats are done (`splatted`) never splats
-        // again when it has to be retraced with a larger vertex buffer.
-        int splatted = 0;
+        // Light paths go in batches of batch_ whose vertices fit on the
+        // device; camera paths [first, first + count) then connect to the
+        // light path of their own index and merge with the batch's. The last
+        // batch holds batch_ light paths too, starting before `first` (it
+        // retraces some of the batch before it; light path i is the same in
+        // any batch): so N_light, and η_VCM = π r² N_light with it, is the
+        // same for every camera path, as the weights of light tracing's
+        // splats, which land on any pixel, need. Each light path splats once:
+        // those below `splatted` have.
+        int splatted = splats ? 0 : pixels_;
         for (int first = 0; first < pixels_;) {
-            int count = std::min(batch_, pixels_ - first);
-            if (first < splatted) count = std::min(count, splatted - first);
-            bool connectToCamera = splats && first >= splatted;
-            params_.firstLightPath = first;
+            int count = 0, lightFirst = 0, lightCount = 0;
+            auto placeBatch = [&] {
+                count = std::min(batch_, pixels_ - first);
+                lightFirst = std::max(0, std::min(first, pixels_ - batch_));
+                lightCount = std::min(batch_, pixels_ - lightFirst);
+            };
+            placeBatch();
             for (;;) {
-                setBatchConstants(count);
-                params_.connectToCamera = connectToCamera ? 1 : 0;
+                params_.firstLightPath = lightFirst;
+                params_.firstSplatPath = splatted;
+                setBatchConstants(lightCount);
                 int zero = 0;
                 device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_TRUE,
                                                  size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int),
                                                  sizeof zero, &zero);
-                runPhase(lightPhase_, first, count);
-                if (connectToCamera) splatted = first + count;
+                runPhase(lightPhase_, lightFirst, lightCount);
+                splatted = std::max(splatted, lightFirst + lightCount);
                 size_t wanted = params_.storeVertices ? size_t(lightVertexCount()) : 0;
                 if (wanted <= vertexCapacity_) break;
-                connectToCamera = false;
                 if (wanted <= vertexBudget_) {
                     ensureLightVertexCapacity(wanted + wanted / 4);
                     continue;
                 }
-                if (count == 1)
+                if (lightCount == 1)
                     throw Error("the light vertices of a single light path do not fit on " + device_.info.name);
-                count /= 2;
-                batch_ = count;
+                batch_ = lightCount / 2;
+                placeBatch();
             }
             if (useVM_) buildHashGrid();
             runPhase(cameraPhase_, first, count);

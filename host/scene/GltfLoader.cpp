@@ -510,6 +510,7 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     // baseColorFactor's times the base-colour texture's.
     out.baseColorAlpha = clamp01(pbr.baseColorFactor.size() == 4 ? pbr.baseColorFactor[3] : 1.0);
     out.alphaCutoff = float(std::isfinite(m.alphaCutoff) ? m.alphaCutoff : 0.5);
+    out.doubleSided = m.doubleSided ? 1 : 0;
     if (m.alphaMode == "MASK") out.alphaMode = ALPHA_MASK;
     else if (m.alphaMode == "BLEND") out.alphaMode = ALPHA_BLEND;
     else if (m.alphaMode != "OPAQUE" && !m.alphaMode.empty())

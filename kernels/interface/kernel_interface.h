@@ -97,7 +97,8 @@ typedef struct LaunchParams {
     int rayQueueLength; /* continuing rays already in rayQueue */
     /* The phase */
     int cameraPaths;     /* 1: camera sub-paths, 0: light sub-paths */
-    int connectToCamera; /* light paths: splat onto the image (lt, bpt, vcm; 0 when a batch is retraced) */
+    int firstSplatPath;  /* light paths from this index on splat onto the image (lt, bpt, vcm); the
+                          * others did in an earlier pass, or never do (ppm, bpm) */
     /* The iteration and light-path batch */
     uint iteration;
     int firstLightPath;   /* light path index of the batch's first path */

@@ -89,7 +89,8 @@ typedef struct Material {
     float baseColorAlpha;      /* baseColorFactor's alpha; the base-colour texture's A multiplies it */
     int emissiveTexture;       /* 1 + its index in the texture table; its RGB scales emission (materials/emission.h) */
     int transmissionTexture;   /* the same; its R scales transmission (KHR_materials_transmission) */
-    int pad[3];
+    int doubleSided;           /* glTF doubleSided: an emitter emits from both faces (else its front only) */
+    int pad[2];
 } Material;
 
 /* glTF alphaMode. */
@@ -135,7 +136,8 @@ typedef struct Light {
     int triangle;       /* BVH-ordered triangle index (triangle lights) */
     float area;         /* triangle area */
     float pmf;          /* probability of selecting this light */
-    float pad;
+    int sides;          /* triangle lights: 1 emits from its front face (along its normal), 2 from both
+                           (a doubleSided material); their emission densities carry 1/sides */
 } Light;
 
 /* A vertex of a light sub-path, stored for vertex connection (and merging):

@@ -146,12 +146,16 @@ INLINE bool sample_light(__global const Light* lights, __global const float* cdf
         float dist = v3_length(d);
         s->direction = v3_div(d, dist);
         float cosLight = -v3_dot(s->direction, n); /* one-sided: emits along n only */
+        if (l->sides == 2 && cosLight < 0.0f) { /* its back face, which emits too */
+            cosLight = -cosLight;
+            n = v3_neg(n);
+        }
         s->distance = dist;
         s->pdf = triangle_light_pdf(l->pmf, l->area, dist, cosLight);
         s->lightPoint = q;
         s->lightNormal = n;
         s->directPdfW = s->pdf;
-        s->emissionPdfW = l->pmf / l->area * cosLight * INV_PI_F;
+        s->emissionPdfW = l->pmf / l->area * cosLight * INV_PI_F / (float)l->sides;
         s->cosAtLight = cosLight;
         return dist > 0.0f && cosLight > 0.0f && s->pdf > 0.0f && isfinite(s->pdf);
     }
@@ -238,12 +242,19 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
     if (type == LIGHT_TRIANGLE) {
         e->position =
             sample_triangle_point(triVertices, l->triangle, u.y, u.z, &e->bary, &e->positionError, &e->normal);
+        /* Two-sided: either face with probability 1/2, v.x reused for the direction. */
+        float ux = v.x;
+        if (l->sides == 2) {
+            bool back = ux >= 0.5f;
+            ux = back ? 2.0f * ux - 1.0f : 2.0f * ux;
+            e->normal = back ? v3_neg(e->normal) : e->normal;
+        }
         Frame f = frame_from_normal(e->normal);
-        vec3 dirLocal = sample_cosine_hemisphere(v.x, v.y);
+        vec3 dirLocal = sample_cosine_hemisphere(ux, v.y);
         e->direction = to_world(&f, dirLocal);
         e->cosAtLight = dirLocal.z;
         e->pdfPosition = l->pmf / l->area;
-        e->pdfDirection = dirLocal.z * INV_PI_F;
+        e->pdfDirection = dirLocal.z * INV_PI_F / (float)l->sides;
         e->directPdf = e->pdfPosition;
         return dirLocal.z > 0.0f;
     }
@@ -297,10 +308,10 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
 /* For MIS at a camera path's hit on an emissive triangle (front side, cosine
  * cosLight): the densities of next-event estimation choosing that point
  * (area) and of the light emitting the ray. */
-INLINE void triangle_hit_pdfs(float pmf, float area, float cosLight, float* directPdfA, float* emissionPdfW)
+INLINE void triangle_hit_pdfs(__global const Light* l, float cosLight, float* directPdfA, float* emissionPdfW)
 {
-    *directPdfA = pmf / area;
-    *emissionPdfW = *directPdfA * cosLight * INV_PI_F;
+    *directPdfA = l->pmf / l->area;
+    *emissionPdfW = *directPdfA * cosLight * INV_PI_F / (float)l->sides;
 }
 
 /* The same for a ray escaping to the background, given the density

@@ -73,11 +73,14 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
         cameraRev *= cv.continuation;
         lightFwd *= contLight;
         lightRev *= contLight;
-        float cosCamera = fabs(dL.z), cosLight = fabs(backL.z);
-        float geometry = cosCamera * cosLight / dist2;
+        /* The throughput's cosines are the shading normals' (the BSDFs'
+         * |ns·ω|, the light side adjoint-corrected); the densities' are the
+         * surfaces' own (mis_cos). */
+        float geometry = fabs(dL.z) * fabs(backL.z) / dist2;
         PathMis lightMis = {lv->dVCM, lv->dVC, lv->dVM};
-        float w = mis_weight_connection(lightMis, cv.mis, cameraFwd * cosLight / dist2,
-                                        lightFwd * cosCamera / dist2, lightRev, cameraRev, params.vmWeightFactor);
+        float w = mis_weight_connection(lightMis, cv.mis, cameraFwd * mis_cos(lightHit.ngF, d) / dist2,
+                                        lightFwd * mis_cos(cv.hit.ngF, d) / dist2, lightRev, cameraRev,
+                                        params.vmWeightFactor);
         vec3 c = v3_mul(v3_mul(v3_mul(v3_scale(beta, w * geometry), fCamera), fLight), load3(lv->throughput));
         if (!accept_finite(c, &rejected))
             continue;

@@ -1,5 +1,5 @@
 /* shade (`-a pt`): at every hit of a camera path, in order,
- *   1. emission seen here (front faces only), MIS-weighted against having
+ *   1. emission seen here (front faces, back faces too of two-sided emitters), MIS-weighted against having
  *      sampled this light from the previous vertex;
  *   2. next-event estimation: sample a light, queue a shadow ray with its
  *      MIS-weighted contribution for `connect`;
@@ -43,7 +43,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
 #ifdef HAS_EMISSIVE_TRIANGLES
     int light = b->triangleLight[tri];
     float cosLight = v3_dot(wo, hit.ngF);
-    if (light >= 0 && hit.frontSide) {
+    if (light >= 0 && (hit.frontSide || b->lights[light].sides == 2)) {
         __global const Light* l = &b->lights[light];
         float prevPdf = b->pathPrevPdf[slot];
         float w = 1.0f;

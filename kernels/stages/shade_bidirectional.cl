@@ -1,7 +1,7 @@
 /* shade_bidirectional: camera sub-paths of lt, bpt, ppm, bpm and vcm
  * (SmallVCM's camera pass, vertexcm.hxx). At every hit, in order,
  *   1. convert the MIS quantities of the last segment to area measure;
- *   2. emission seen here (front faces only), weighted against every other
+ *   2. emission seen here (front faces, and back faces of two-sided emitters), weighted against every other
  *      technique that samples this path (eqs. 42-43); with merging but no
  *      connections (ppm, bpm) only purely specular paths take it, with
  *      weight 1, as merging covers the rest;
@@ -43,21 +43,20 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
     int pixel = b->pathPixel[slot];
     vec3 beta = load_vec3(b->pathThroughput, slot);
     PathMis mis = load_mis(b->pathMis, slot);
-    mis_at_hit(&mis, b->hitT[slot], fabs(woL.z), true);
+    mis_at_hit(&mis, b->hitT[slot], mis_cos(hit.ngF, wo), true);
     vec3 L = v3s(0.0f);
 
 #ifdef HAS_EMISSIVE_TRIANGLES
     int light = b->triangleLight[tri];
     bool specularPath = (b->pathFlags[slot] & PATH_SPECULAR) != 0;
-    if (light >= 0 && hit.frontSide) {
+    if (light >= 0 && (hit.frontSide || b->lights[light].sides == 2)) {
         float w = 1.0f; /* seen directly: no other technique */
 #ifdef VERTEX_MERGING_ONLY
         w = specularPath ? 1.0f : 0.0f;
 #else
         if (depth > 1) {
             float directPdfA, emissionPdfW;
-            triangle_hit_pdfs(b->lights[light].pmf, b->lights[light].area, v3_dot(wo, hit.ngF), &directPdfA,
-                              &emissionPdfW);
+            triangle_hit_pdfs(&b->lights[light], v3_dot(wo, hit.ngF), &directPdfA, &emissionPdfW);
             w = mis_weight_emission_hit(mis, directPdfA, emissionPdfW);
         }
 #endif
@@ -85,8 +84,8 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
                 float cosToLight = fabs(wiL.z);
                 float bsdfDirPdfW = ls.delta ? 0.0f : pdfFwd * cont;
                 float bsdfRevPdfW = pdfRev * cont;
-                float w = mis_weight_nee(mis, bsdfDirPdfW, bsdfRevPdfW, ls.directPdfW, ls.emissionPdfW, cosToLight,
-                                         ls.cosAtLight, params->vmWeightFactor);
+                float w = mis_weight_nee(mis, bsdfDirPdfW, bsdfRevPdfW, ls.directPdfW, ls.emissionPdfW,
+                                         mis_cos(hit.ngF, ls.direction), ls.cosAtLight, params->vmWeightFactor);
                 vec3 contribution = v3_mul(v3_mul(beta, f), v3_scale(ls.radiance, w * cosToLight / ls.pdf));
                 if (max_component(f) > 0.0f && accept_finite(contribution, rejected)) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,

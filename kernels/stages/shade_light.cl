@@ -47,7 +47,7 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     int depth = hit_depth(b->pathDepth, slot);
     int lightPath = b->pathPixel[slot];
     PathMis mis = load_mis(b->pathMis, slot);
-    mis_at_hit(&mis, b->hitT[slot], fabs(wLightL.z), depth > 1 || (b->pathFlags[slot] & PATH_FINITE_LIGHT));
+    mis_at_hit(&mis, b->hitT[slot], mis_cos(hit.ngF, wLight), depth > 1 || (b->pathFlags[slot] & PATH_FINITE_LIGHT));
     Bsdf bsdf = surface_bsdf(b, tri, bary, wLightL, hit.frontSide);
     if (bsdf_is_black(&bsdf))
         return r;
@@ -69,7 +69,7 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
             v->b2 = bary.y;
             v->continuation = cont;
         }
-        if (params->connectToCamera && path_fits(depth + 1, params->maxPathLength)) {
+        if (lightPath >= params->firstSplatPath && path_fits(depth + 1, params->maxPathLength)) {
             vec3 cameraPosition = load3c(b->camera->position);
             vec3 toCamera = v3_sub(cameraPosition, hit.p);
             float dist2 = v3_dot(toCamera, toCamera);
@@ -80,14 +80,17 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
                 float pdfFwd, pdfRev;
                 vec3 f = v3_scale(bsdf_eval(&bsdf, wLightL, toCameraL, true, &pdfFwd, &pdfRev),
                                   adjoint_shading_correction(&hit, wLight, toCamera));
-                /* Density of the camera sampling this point, per unit area. */
-                float cameraPdfA = camera_pdf_w(b->camera, v3_neg(toCamera)) * fabs(toCameraL.z) / dist2;
+                /* The camera's importance arriving here, per unit area (with
+                 * the shading cosine of the adjoint BSDF's |ns·ω|), and, for
+                 * the weight, its density of sampling this point (mis_cos). */
+                float cameraPdfW = camera_pdf_w(b->camera, v3_neg(toCamera));
+                float importance = cameraPdfW * fabs(toCameraL.z) / dist2;
                 float w = 1.0f; /* lt: the only technique for these paths */
 #ifndef LIGHT_TRACING
-                w = mis_weight_light_to_camera(mis, cameraPdfA, params->lightTracePaths, pdfRev * cont,
-                                               params->vmWeightFactor);
+                w = mis_weight_light_to_camera(mis, cameraPdfW * mis_cos(hit.ngF, toCamera) / dist2,
+                                               params->lightTracePaths, pdfRev * cont, params->vmWeightFactor);
 #endif
-                vec3 contribution = v3_scale(v3_mul(beta, f), w * (cameraPdfA / params->lightTracePaths));
+                vec3 contribution = v3_scale(v3_mul(beta, f), w * (importance / params->lightTracePaths));
                 if (accept_finite(contribution, rejected) && max_component(contribution) > 0.0f) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,
                               ray_between(hit.p, hit.pError, hit.ngF, cameraPosition, v3s(0.0f), v3_neg(toCamera)));

@@ -29,7 +29,7 @@ INLINE CameraVertex camera_vertex(const RenderBuffers* b, int slot)
     v.woL = to_local(&v.hit.frame, wo);
     v.bsdf = surface_bsdf(b, tri, bary, v.woL, v.hit.frontSide);
     v.mis = load_mis(b->pathMis, slot);
-    mis_at_hit(&v.mis, b->hitT[slot], fabs(v.woL.z), true);
+    mis_at_hit(&v.mis, b->hitT[slot], mis_cos(v.hit.ngF, wo), true);
     v.continuation = continuation_probability(&v.bsdf);
     return v;
 }

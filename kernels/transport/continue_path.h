@@ -21,7 +21,7 @@ typedef struct Scatter {
     vec3 weight;   /* f·|cos θi|/pdf; light paths: adjoint form with Veach's shading-normal correction */
     float pdfW;    /* solid-angle pdf of wi (a delta lobe: its selection probability) */
     float revPdfW; /* pdf of sampling wo from wi (= pdfW for a delta lobe) */
-    float cosIn;   /* |cos θi| at the shading normal */
+    float misCos;  /* mis_cos of wi: |cos θi| at the geometric normal */
     int delta;
     int refracted; /* crossed into or out of a solid: radiance carries 1/η² */
 } Scatter;
@@ -48,7 +48,7 @@ INLINE bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, vec3 wo, vec3 woL, 
         bsdf_eval(bsdf, woL, bs.wi, adjoint, &fwd, &rev);
         s->revPdfW = rev;
     }
-    s->cosIn = fabs(bs.wi.z);
+    s->misCos = mis_cos(hit->ngF, s->wi);
     s->delta = bs.delta;
     s->refracted = bsdf->refracts && bs.wi.z < 0.0f;
     return true;
@@ -65,7 +65,7 @@ INLINE bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, vec3
 {
     if (!scatter(bsdf, hit, wo, woL, u, adjoint, true, s) || !(u.w < cont))
         return false;
-    mis_after_scatter(mis, s->delta, s->cosIn, s->pdfW * cont, s->revPdfW * cont, params->vmWeightFactor,
+    mis_after_scatter(mis, s->delta, s->misCos, s->pdfW * cont, s->revPdfW * cont, params->vmWeightFactor,
                       params->vcWeightFactor);
     *beta = v3_mul(*beta, v3_div(s->weight, cont));
     return true;

@@ -45,10 +45,19 @@ INLINE PathMis mis_camera_start(float lightPaths, float cameraPdfW)
     return m;
 }
 
-/* At a new hit at distance `dist`, seen at |cos| `cosHit` from the incoming
- * direction (shading normal): convert the pdfs of the last segment to area
- * measure. The first segment of a path from an infinite light has no
- * distance (§5.1). */
+/* The one rule for the cosines in these quantities and in the densities the
+ * weights compare: each converts a density per solid angle into one per unit
+ * area at the vertex a direction arrives at or leaves, dA = d² dω / |cos θ|,
+ * so it is the cosine to the surface itself, the geometric normal's, whatever
+ * normal shades the vertex (the emitters' densities use it too). With a
+ * shading normal's cosine in some of them, the weights of a smooth-shaded or
+ * normal-mapped vertex would not sum to one. */
+INLINE float mis_cos(vec3 ng, vec3 w) { return fabs(v3_dot(ng, w)); }
+
+/* At a new hit at distance `dist`, seen at `cosHit` = mis_cos from the
+ * incoming direction: convert the pdfs of the last segment to area measure.
+ * The first segment of a path from an infinite light has no distance
+ * (§5.1). */
 INLINE void mis_at_hit(PathMis* m, float dist, float cosHit, bool convertDistance)
 {
     if (convertDistance)
@@ -60,7 +69,7 @@ INLINE void mis_at_hit(PathMis* m, float dist, float cosHit, bool convertDistanc
 }
 
 /* After sampling a new direction with solid-angle pdf pdfW (continuation
- * probability included), reverse pdf revPdfW, and |cos| cosOut at this
+ * probability included), reverse pdf revPdfW, and cosOut = mis_cos at this
  * vertex (eqs. 34-36; specular vertices 53-55). */
 INLINE void mis_after_scatter(PathMis* m, bool delta, float cosOut, float pdfW, float revPdfW, float vmWeightFactor,
                               float vcWeightFactor)
@@ -96,8 +105,8 @@ INLINE float mis_weight_emission_hit(PathMis camera, float directPdf, float emis
 
 /* Next-event estimation from a camera vertex: bsdfDirPdfW is the density of
  * the BSDF sampling the light's direction (0 for delta lights), bsdfRevPdfW
- * that of the reverse direction; directPdfW, emissionPdfW and cosAtLight as
- * in LightSample (eqs. 44-45). */
+ * that of the reverse direction, cosToLight mis_cos there; directPdfW,
+ * emissionPdfW and cosAtLight as in LightSample (eqs. 44-45). */
 INLINE float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdfRevPdfW, float directPdfW,
                             float emissionPdfW, float cosToLight, float cosAtLight, float vmWeightFactor)
 {
