@@ -7,14 +7,18 @@
 #include "TestDevices.h"
 #include "TestQuad.h"
 #include "TestRendering.h"
+#include "render/SceneBuffers.h"
 #include "scene/GltfLoader.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <vector>
+
 #include <unistd.h>
 
 namespace wv {
@@ -161,6 +165,65 @@ TEST_F(Textures, LoadDecodedWithWrapModesAndCoordinates)
     // A textured material without TEXCOORD_0: a warning.
     EXPECT_TRUE(anyWarningContains(loadGltf(writeQuad("nouv", {{"index", 0}}, json::object(), false)),
                                    "without TEXCOORD_0"));
+}
+
+// Every wrap mode on each axis (glTF's REPEAT, CLAMP_TO_EDGE and
+// MIRRORED_REPEAT), by the production lookup in a test kernel against a
+// reference written from the sampler's definition in double: a 3 × 2 texture
+// (unequal sides catch swapped axes) of distinct texels, looked up inside,
+// just outside, far outside [0, 1] and on texel centres and edges. Float
+// rounding of u·width bounds the difference (1e-5 here).
+TEST(TextureLookup, EveryWrapModeMatchesItsDefinition)
+{
+    const int w = 3, h = 2;
+    std::vector<std::array<float, 4>> texels;
+    for (int t = 0; t < w * h; ++t) texels.push_back({float(t), float(t * t) / 8, 1.0f / (t + 1), float(t % 2)});
+    auto wrap = [](int i, int n, int mode) {
+        if (mode == WRAP_CLAMP) return std::min(std::max(i, 0), n - 1);
+        int period = mode == WRAP_MIRROR ? 2 * n : n;
+        int m = ((i % period) + period) % period;
+        return mode == WRAP_MIRROR && m >= n ? 2 * n - 1 - m : m;
+    };
+    auto reference = [&](double u, double v, int wrapS, int wrapT, int c) {
+        double x = u * w - 0.5, y = v * h - 0.5, fx = std::floor(x), fy = std::floor(y), ax = x - fx, ay = y - fy;
+        auto at = [&](int i, int j) { return double(texels[size_t(wrap(j, h, wrapT) * w + wrap(i, w, wrapS))][size_t(c)]); };
+        int i = int(fx), j = int(fy);
+        return (1 - ay) * ((1 - ax) * at(i, j) + ax * at(i + 1, j)) + ay * ((1 - ax) * at(i, j + 1) + ax * at(i + 1, j + 1));
+    };
+    std::vector<std::array<float, 2>> uvs;
+    for (float u : {0.0f, 0.1f, 1.0f / 6, 0.5f, 0.9f, 1.0f, 1.05f, -0.05f, -0.4f, 1.7f, 2.3f, -3.2f, 7.9f})
+        for (float v : {0.0f, 0.25f, 0.6f, 1.0f, -0.3f, 1.3f, -2.6f, 5.1f}) uvs.push_back({u, v});
+
+    DeviceContext device(test::devicesUnderTest()[0]);
+    cl::Program program = test::buildTestProgram(device, {test::testKernel("texture_tests.cl")}, "-DSCENE_LOBES=1u");
+    cl::Buffer texelBuffer = uploadBuffer(device, texels.data(), texels.size() * 16, "texels");
+    cl::Buffer uvBuffer = uploadBuffer(device, uvs.data(), uvs.size() * 8, "uvs");
+    cl::Buffer out = deviceBuffer(device, uvs.size() * 16, "lookups");
+    for (int wrapS : {WRAP_REPEAT, WRAP_CLAMP, WRAP_MIRROR})
+        for (int wrapT : {WRAP_REPEAT, WRAP_CLAMP, WRAP_MIRROR}) {
+            SCOPED_TRACE("wrapS " + std::to_string(wrapS) + ", wrapT " + std::to_string(wrapT));
+            TextureInfo info{};
+            info.width = w;
+            info.height = h;
+            info.wrapS = wrapS;
+            info.wrapT = wrapT;
+            info.uvTransform[0] = info.uvTransform[4] = 1;
+            cl::Buffer infoBuffer = uploadBuffer(device, &info, sizeof info, "texture");
+            cl::Kernel kernel(program, "texture_lookups");
+            kernel.setArg(0, texelBuffer);
+            kernel.setArg(1, infoBuffer);
+            kernel.setArg(2, uvBuffer);
+            kernel.setArg(3, int(uvs.size()));
+            kernel.setArg(4, out);
+            device.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(test::launchSize(uvs.size())),
+                                              cl::NDRange(64));
+            std::vector<std::array<float, 4>> got(uvs.size());
+            device.queue.enqueueReadBuffer(out, CL_TRUE, 0, got.size() * 16, got.data());
+            for (size_t k = 0; k < uvs.size(); ++k)
+                for (int c = 0; c < 4; ++c)
+                    EXPECT_NEAR(got[k][size_t(c)], reference(uvs[k][0], uvs[k][1], wrapS, wrapT, c), 1e-5)
+                        << "uv (" << uvs[k][0] << ", " << uvs[k][1] << ") channel " << c;
+        }
 }
 
 TEST_F(Textures, TexelsRenderWhereTheyLie)
