@@ -174,11 +174,18 @@ TEST(Bidirectional, BeatsThePathTracerOnLightThroughGlass)
 // additions in light tracing's splats. 30 × 30 pixels are no multiple of the
 // batch (900 halved to 112): the last batch retraces light paths of the one
 // before it, which must neither splat twice nor connect to the wrong pixel.
+// With room for 400 vertices a later batch outgrows what the first needed,
+// the batch shrinks midway and the iteration starts again (so that every
+// batch of it has one η): what the first attempt added must not stay.
 TEST(Bidirectional, BatchesWhenLightVerticesDoNotFit)
 {
     Scene scene = loadGltf(test::cornellBoxPath());
     DeviceInfo info = test::devicesUnderTest()[0];
-    auto renderWith = [&](size_t maxLightVertices, int* batch) {
+    struct Run {
+        Image image;
+        int batch, restarted;
+    };
+    auto renderWith = [&](size_t maxLightVertices) {
         DeviceContext device(info);
         Bvh bvh = buildBvh(scene.vertices);
         RenderSettings s;
@@ -190,19 +197,24 @@ TEST(Bidirectional, BatchesWhenLightVerticesDoNotFit)
         s.maxLightVertices = maxLightVertices;
         Renderer renderer(device, scene, bvh, s);
         for (int i = 0; i < 4; ++i) renderer.iterate();
-        *batch = renderer.lightPathBatch();
-        return renderer.image();
+        return Run{renderer.image(), renderer.lightPathBatch(), renderer.restartedIterations()};
     };
-    int wholeBatch, smallBatch;
-    Image whole = renderWith(0, &wholeBatch), batched = renderWith(300, &smallBatch);
-    EXPECT_EQ(wholeBatch, 30 * 30);
-    EXPECT_LT(smallBatch, 30 * 30 / 4) << "300 vertices cannot hold a quarter of the light paths";
-    EXPECT_NE(30 * 30 % smallBatch, 0) << "the last batch should overlap the one before it";
-    ImageDifference d = compareImages(batched, whole);
-    EXPECT_LT(d.relMse, 1e-8);
-    EXPECT_NEAR(d.meanRatio, 1.0, 1e-5);
+    Run whole = renderWith(0);
+    EXPECT_EQ(whole.batch, 30 * 30);
+    int restarted = 0;
+    for (size_t budget : {300, 400}) {
+        SCOPED_TRACE("room for " + std::to_string(budget) + " vertices");
+        Run batched = renderWith(budget);
+        EXPECT_LT(batched.batch, 30 * 30 / 4) << "this cannot hold a quarter of the light paths";
+        EXPECT_NE(30 * 30 % batched.batch, 0) << "the last batch should overlap the one before it";
+        restarted += batched.restarted;
+        ImageDifference d = compareImages(batched.image, whole.image);
+        EXPECT_LT(d.relMse, 1e-8);
+        EXPECT_NEAR(d.meanRatio, 1.0, 1e-5);
+    }
+    EXPECT_GT(restarted, 0) << "no batch shrank midway: the restart went untested (choose another budget)";
     // Room for one vertex: some light path needs more, a clear error.
-    EXPECT_THROW(renderWith(1, &smallBatch), Error);
+    EXPECT_THROW(renderWith(1), Error);
 }
 
 // PoCL and rusticl agree (test::expectSameImageOnEveryDevice).

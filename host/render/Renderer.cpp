@@ -305,55 +305,69 @@ void Renderer::runPhase(Phase& phase, int firstSample, int count)
     }
 }
 
+// The bidirectional algorithms' iteration: light paths go in batches of
+// batch_ whose vertices fit on the device; camera paths [first, first +
+// count) then connect to the light path of their own index and merge with
+// the batch's. The last batch holds batch_ light paths too, starting before
+// `first` (it retraces some of the batch before it; light path i is the same
+// in any batch): so N_light, and η_VCM = π r² N_light with it, is the same
+// for every camera path, as the weights of light tracing's splats, which land
+// on any pixel, need. Each light path splats once: those below `splatted`
+// have. False when the batch had to shrink after camera paths were shaded
+// with the larger one's η: the iteration starts again.
+bool Renderer::renderBatches()
+{
+    bool splats = settings_.algorithm == Algorithm::LightTracing || useVC_;
+    int splatted = splats ? 0 : pixels_;
+    for (int first = 0; first < pixels_;) {
+        int count = 0, lightFirst = 0, lightCount = 0;
+        auto placeBatch = [&] {
+            count = std::min(batch_, pixels_ - first);
+            lightFirst = std::max(0, std::min(first, pixels_ - batch_));
+            lightCount = std::min(batch_, pixels_ - lightFirst);
+        };
+        placeBatch();
+        for (;;) {
+            params_.firstLightPath = lightFirst;
+            params_.firstSplatPath = splatted;
+            setBatchConstants(lightCount);
+            int zero = 0;
+            device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_TRUE,
+                                             size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int),
+                                             sizeof zero, &zero);
+            runPhase(lightPhase_, lightFirst, lightCount);
+            splatted = std::max(splatted, lightFirst + lightCount);
+            size_t wanted = params_.storeVertices ? size_t(lightVertexCount()) : 0;
+            if (wanted <= vertexCapacity_) break;
+            if (wanted <= vertexBudget_) {
+                ensureLightVertexCapacity(wanted + wanted / 4);
+                continue;
+            }
+            if (lightCount == 1)
+                throw Error("the light vertices of a single light path do not fit on " + device_.info.name);
+            batch_ = lightCount / 2;
+            if (first > 0) return false;
+            placeBatch();
+        }
+        if (useVM_) buildHashGrid();
+        runPhase(cameraPhase_, first, count);
+        first += count;
+    }
+    return true;
+}
+
 void Renderer::iterate()
 {
     params_.iteration = uint32_t(iteration_);
     if (!bidirectional_) {
         runPhase(cameraPhase_, 0, pixels_);
     } else {
-        bool splats = settings_.algorithm == Algorithm::LightTracing || useVC_;
-        // Light paths go in batches of batch_ whose vertices fit on the
-        // device; camera paths [first, first + count) then connect to the
-        // light path of their own index and merge with the batch's. The last
-        // batch holds batch_ light paths too, starting before `first` (it
-        // retraces some of the batch before it; light path i is the same in
-        // any batch): so N_light, and η_VCM = π r² N_light with it, is the
-        // same for every camera path, as the weights of light tracing's
-        // splats, which land on any pixel, need. Each light path splats once:
-        // those below `splatted` have.
-        int splatted = splats ? 0 : pixels_;
-        for (int first = 0; first < pixels_;) {
-            int count = 0, lightFirst = 0, lightCount = 0;
-            auto placeBatch = [&] {
-                count = std::min(batch_, pixels_ - first);
-                lightFirst = std::max(0, std::min(first, pixels_ - batch_));
-                lightCount = std::min(batch_, pixels_ - lightFirst);
-            };
-            placeBatch();
-            for (;;) {
-                params_.firstLightPath = lightFirst;
-                params_.firstSplatPath = splatted;
-                setBatchConstants(lightCount);
-                int zero = 0;
-                device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_TRUE,
-                                                 size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int),
-                                                 sizeof zero, &zero);
-                runPhase(lightPhase_, lightFirst, lightCount);
-                splatted = std::max(splatted, lightFirst + lightCount);
-                size_t wanted = params_.storeVertices ? size_t(lightVertexCount()) : 0;
-                if (wanted <= vertexCapacity_) break;
-                if (wanted <= vertexBudget_) {
-                    ensureLightVertexCapacity(wanted + wanted / 4);
-                    continue;
-                }
-                if (lightCount == 1)
-                    throw Error("the light vertices of a single light path do not fit on " + device_.info.name);
-                batch_ = lightCount / 2;
-                placeBatch();
-            }
-            if (useVM_) buildHashGrid();
-            runPhase(cameraPhase_, first, count);
-            first += count;
+        while (!renderBatches()) {
+            ++restartedIterations_;
+            size_t bytes = size_t(pixels_) * 16;
+            for (cl::Buffer* b : {&buffers_.pixelRadiance, &buffers_.connectionRadiance, &buffers_.mergingRadiance,
+                                  &buffers_.splatRadiance})
+                device_.queue.enqueueFillBuffer(*b, 0.0f, 0, bytes);
         }
     }
     launch(accumulate_, size_t(pixels_));

@@ -63,6 +63,9 @@ public:
     // Light paths per batch (bidirectional): all pixels unless the light
     // vertices of that many paths do not fit on the device.
     int lightPathBatch() const { return batch_; }
+    // Bidirectional iterations begun again because the light-path batch had
+    // to shrink midway (renderBatches).
+    int restartedIterations() const { return restartedIterations_; }
     // The merge radius of the last iteration (0 without merging).
     float mergeRadius() const { return radius_; }
 
@@ -97,6 +100,7 @@ private:
     int lightVertexCount();
     void ensureLightVertexCapacity(size_t vertices);
     void setBatchConstants(int lightPaths);
+    bool renderBatches();
     void buildHashGrid();
     void collectProfile();
 
@@ -117,6 +121,7 @@ private:
     float sceneRadius_ = 0, radius_ = 0;
     std::unique_ptr<HashGrid> grid_; // merging only
     int batch_ = 0;
+    int restartedIterations_ = 0;
     int pixels_ = 0;
     int iteration_ = 0;
     uint64_t rays_ = 0;
