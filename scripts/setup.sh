@@ -17,7 +17,6 @@ packages=(
   clang libclang-rt-dev                                    # the glTF loader's fuzz target (libFuzzer)
   libembree-dev                                            # optional: the ray benchmarks compare with Embree
   clang-15 libclc-15                                       # kernels to PTX for the GPU compile test (with CUDA's ptxas)
-  python3-matplotlib python3-numpy                         # scripts/convergence.py
 )
 missing=()
 for p in "${packages[@]}"; do

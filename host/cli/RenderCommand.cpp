@@ -1,5 +1,6 @@
 #include "../Error.h"
 #include "../bvh/Bvh.h"
+#include "../image/TechniqueImages.h"
 #include "../render/Renderer.h"
 #include "../scene/GltfLoader.h"
 #include "Commands.h"
@@ -91,28 +92,6 @@ private:
     std::ofstream out_;
 };
 
-// OUTPUT_STEM.techniques.exr with one layer per technique family, and
-// OUTPUT_STEM.techniques.png showing each pixel's shares of them (luminance;
-// red unidirectional, green vertex connection, blue vertex merging), the
-// "relative contributions" picture of the VCM talk.
-static void writeTechniqueImages(const std::string& output, const std::array<Image, 3>& families)
-{
-    fs::path base = fs::path(output).parent_path() / fs::path(output).stem();
-    writeExrLayers(base.string() + ".techniques.exr", {"unidirectional", "connection", "merging"},
-                   {families[0], families[1], families[2]});
-    Image shares(families[0].width, families[0].height);
-    for (size_t p = 0; p < shares.rgb.size() / 3; ++p) {
-        float lum[3], total = 0;
-        for (int f = 0; f < 3; ++f) {
-            const float* c = &families[f].rgb[3 * p];
-            lum[f] = std::max(0.0f, 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]);
-            total += lum[f];
-        }
-        for (int f = 0; f < 3; ++f) shares.rgb[3 * p + f] = total > 0 ? lum[f] / total : 0.0f;
-    }
-    writeImage(base.string() + ".techniques.png", shares);
-}
-
 static double since(std::chrono::steady_clock::time_point t)
 {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -170,97 +149,10 @@ private:
     struct sigaction savedInt_ {}, savedTerm_ {};
 };
 
-static void validate(const RenderOptions& o)
-{
-    if (o.sppGiven && o.spp <= 0) throw Error("--spp must be positive");
-    if (o.secondsGiven && !(o.seconds > 0 && std::isfinite(o.seconds)))
-        throw Error("--time must be a positive number of seconds");
-    if (o.width < 0 || o.height < 0 || o.width > 32768 || o.height > 32768)
-        throw Error("--width and --height must be between 1 and 32768");
-    if (o.maxPathLength < 1) throw Error("--max-path-length must be at least 1");
-    if (o.wavefront < 0) throw Error("--wavefront must be positive");
-    if (!(o.radiusFactor > 0) || !std::isfinite(o.radiusFactor)) throw Error("--radius-factor must be positive");
-    if (!(o.radiusAlpha > 0 && o.radiusAlpha <= 1)) throw Error("--radius-alpha must be in (0, 1]");
-    if (!(o.environmentStrength >= 0) || !std::isfinite(o.environmentStrength))
-        throw Error("--environment-strength must be a finite number >= 0");
-    if (!std::isfinite(o.environmentRotation)) throw Error("--environment-rotation must be a finite number");
-    if (!o.environment.empty()) {
-        if (!o.background.empty()) throw Error("--environment and --background both replace the background: give one");
-        std::string ext = fs::path(o.environment).extension().string();
-        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (ext != ".exr" && ext != ".hdr" && ext != ".pfm")
-            throw Error(o.environment + ": an environment map must be linear radiance in .exr, .hdr or .pfm");
-        if (!fs::is_regular_file(o.environment)) throw Error(o.environment + ": no such file");
-    }
-}
-
-// The image size: both given, one given (the other from the camera's aspect
-// ratio), or neither (512 high).
-static void resolution(const RenderOptions& o, const Scene& scene, int* width, int* height)
-{
-    float aspect = scene.camera.aspectRatio > 0 ? scene.camera.aspectRatio : 1.0f;
-    *height = o.height > 0 ? o.height : (o.width > 0 ? std::max(1, int(std::lround(o.width / aspect))) : 512);
-    *width = o.width > 0 ? o.width : std::max(1, int(std::lround(*height * aspect)));
-}
-
-static Vec3 parseColor(const std::string& option, const std::string& text)
-{
-    Vec3 c;
-    char comma1 = 0, comma2 = 0, extra = 0;
-    if (std::sscanf(text.c_str(), " %f %c %f %c %f %c", &c.x, &comma1, &c.y, &comma2, &c.z, &extra) != 5 ||
-        comma1 != ',' || comma2 != ',' || !(c.x >= 0 && c.y >= 0 && c.z >= 0) || !std::isfinite(c.x + c.y + c.z))
-        throw Error(option + " " + text + ": expected R,G,B, three finite numbers >= 0");
-    return c;
-}
-
-// --camera and --background, and a default light: a scene with none (most
-// exported models carry no light) would render black without a word, so it
-// gets a uniform white background of radiance 1, what glTF viewers show.
-static void chooseCameraAndLight(const RenderOptions& o, const std::string& scenePath, Scene& scene)
-{
-    if (o.camera >= 0) {
-        if (size_t(o.camera) >= scene.cameras.size())
-            throw Error("--camera " + std::to_string(o.camera) + ": " + scenePath + " has " +
-                        std::to_string(scene.cameras.size()) + " perspective camera" +
-                        (scene.cameras.size() == 1 ? "" : "s") + " (numbered from 0)");
-        scene.camera = scene.cameras[size_t(o.camera)];
-    }
-    if (!o.background.empty()) {
-        scene.background = parseColor("--background", o.background);
-        scene.environment = EnvironmentMap{}; // replaces the scene's map too
-    }
-    if (!o.environment.empty()) {
-        scene.environment.path = o.environment;
-        scene.environment.image = readImage(o.environment);
-        scene.environment.strength = float(o.environmentStrength);
-        scene.environment.rotation = float(o.environmentRotation);
-        if (!scene.hasLight()) {
-            std::fprintf(stderr,
-                         "wavevcm: warning: %s emits nothing (black, or --environment-strength 0) and %s has no "
-                         "other light: the image is black\n",
-                         o.environment.c_str(), scenePath.c_str());
-            return;
-        }
-    }
-    if (scene.hasLight()) return;
-    if (!o.background.empty()) {
-        std::fprintf(stderr, "wavevcm: warning: %s has no light and --background is 0: the image is black\n",
-                     scenePath.c_str());
-        return;
-    }
-    std::fprintf(stderr,
-                 "wavevcm: warning: %s has no light (no KHR_lights_punctual light, no emissive material, no "
-                 "background); rendering it under a uniform white background of radiance 1, as glTF viewers "
-                 "do. Add lights to the file or set --background R,G,B.\n",
-                 scenePath.c_str());
-    scene.background = Vec3(1, 1, 1);
-}
-
 int runRender(const RenderOptions& o)
 {
-    validate(o);
-    RenderSettings settings;
-    settings.algorithm = parseAlgorithm(o.algorithm);
+    validateRenderOptions(o);
+    parseAlgorithm(o.algorithm); // before anything else, as the other options
     // Check the output's format before the render, not after it.
     std::string ext = fs::path(o.output).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -272,10 +164,8 @@ int runRender(const RenderOptions& o)
 
     auto setupStart = std::chrono::steady_clock::now();
     std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
-    Scene scene = loadGltf(scenePath);
-    for (const std::string& w : scene.warnings) std::fprintf(stderr, "wavevcm: warning: %s\n", w.c_str());
-    chooseCameraAndLight(o, scenePath, scene);
-    resolution(o, scene, &settings.width, &settings.height);
+    Scene scene = prepareScene(o, scenePath);
+    RenderSettings settings = renderSettings(o, scene);
     std::unique_ptr<ErrorLog> errorLog;
     if (!o.errorLog.empty()) {
         if (o.reference.empty()) throw Error("--error-log needs --reference");
@@ -285,12 +175,6 @@ int runRender(const RenderOptions& o)
                         std::to_string(errorLog->height()) + " but the render is " + std::to_string(settings.width) +
                         "x" + std::to_string(settings.height) + " (set --width/--height)");
     }
-    settings.maxPathLength = o.maxPathLength;
-    settings.seed = o.seed;
-    settings.wavefront = o.wavefront;
-    settings.radiusFactor = float(o.radiusFactor);
-    settings.radiusAlpha = float(o.radiusAlpha);
-    settings.techniques = o.aov == "techniques";
 
     Bvh bvh = buildBvh(scene.vertices);
     std::vector<DeviceInfo> devices = enumerateDevices();
@@ -334,7 +218,10 @@ int runRender(const RenderOptions& o)
     Image image = renderer.image();
     uint64_t nonFinite = renderer.nonFiniteCount();
     writeImage(o.output, image);
-    if (settings.techniques) writeTechniqueImages(o.output, renderer.techniqueImages());
+    if (settings.techniques) {
+        fs::path stem = fs::path(o.output).parent_path() / fs::path(o.output).stem();
+        writeTechniqueImages(stem.string(), renderer.techniqueImages());
+    }
     double samplesPerSecond = double(settings.width) * settings.height * renderer.iterations() / renderSeconds;
     double raysPerSecond = double(renderer.raysTraced()) / renderSeconds;
     if (!o.quiet)

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <sstream>
 
 int main(int argc, char** argv)
 {
@@ -57,6 +58,42 @@ int main(int argc, char** argv)
                        "merging) and OUTPUT_STEM.techniques.png (red/green/blue = their shares)")
         ->check(CLI::IsMember({"techniques"}));
 
+    wv::ReportOptions rep;
+    std::string algorithms;
+    CLI::App* report = app.add_subcommand(
+        "report", "render scenes with every algorithm for the same time and write an HTML comparison");
+    report->add_option("scenes", rep.scenes, "scene files (.gltf or .glb)")->required();
+    report->add_option("-t,--time", rep.seconds, "render time of each algorithm on each scene, seconds")->required();
+    report->add_option("-o,--output", rep.outputDir, "report directory (index.html, report.json, one folder per scene)")
+        ->required();
+    report->add_option("--algorithms", algorithms, "comma-separated subset of pt,lt,bpt,ppm,bpm,vcm (default all)");
+    report->add_option("--reference", rep.references,
+                       "reference image of each scene, in the scenes' order (default: render one with vcm)");
+    report->add_option("--reference-seconds", rep.referenceSeconds,
+                       "vcm's render time for each reference (default 6 times --time)");
+    report->add_option("-d,--device", rep.render.device, "device index from `wavevcm devices`, or a substring of its name");
+    report->add_option("--width", rep.render.width, "image width (default: from the camera's aspect ratio)");
+    report->add_option("--height", rep.render.height, "image height (default 512)");
+    report->add_option("--max-path-length", rep.render.maxPathLength, "segments of a full path, camera segment included")
+        ->capture_default_str();
+    report->add_option("--seed", rep.render.seed, "random seed")->capture_default_str();
+    report->add_option("--wavefront", rep.render.wavefront, "path slots per wavefront (default: by device type)");
+    report->add_option("--radius-factor", rep.render.radiusFactor,
+                       "merge radius of the first iteration, times the scene's bounding-sphere radius")
+        ->capture_default_str();
+    report->add_option("--radius-alpha", rep.render.radiusAlpha, "radius reduction: r_i = r_1 i^((alpha-1)/2)")
+        ->capture_default_str();
+    report->add_option("--camera", rep.render.camera, "render from the file's N-th perspective camera (0 = the first)")
+        ->check(CLI::NonNegativeNumber);
+    report->add_option("--background", rep.render.background, "uniform background radiance R,G,B");
+    report->add_option("--environment", rep.render.environment, "equirectangular environment map as the background");
+    report->add_option("--environment-strength", rep.render.environmentStrength, "radiance scale of --environment")
+        ->capture_default_str();
+    report->add_option("--environment-rotation", rep.render.environmentRotation,
+                       "turn of --environment about the up axis (+y), degrees")
+        ->capture_default_str();
+    report->add_flag("-q,--quiet", rep.quiet, "print nothing but errors and warnings");
+
     app.add_subcommand("devices", "list every OpenCL platform and device");
 
     std::string test, reference;
@@ -72,6 +109,15 @@ int main(int argc, char** argv)
 
     try {
         if (render->parsed()) return wv::runRender(r);
+        if (report->parsed()) {
+            if (!algorithms.empty()) {
+                rep.algorithms.clear();
+                std::stringstream list(algorithms);
+                for (std::string a; std::getline(list, a, ',');) rep.algorithms.push_back(a);
+            }
+            wv::writeReport(rep);
+            return 0;
+        }
         if (compare->parsed()) return wv::runCompare(test, reference, maxRelMse);
         return wv::runDevices();
     } catch (const wv::Error& e) {
