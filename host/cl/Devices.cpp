@@ -95,4 +95,19 @@ const DeviceInfo& selectDevice(const std::vector<DeviceInfo>& devices, const std
     throw Error("no device matches '" + selector + "' (see `wavevcm devices`)");
 }
 
+std::vector<DeviceInfo> selectDevices(const std::vector<DeviceInfo>& devices, const std::string& selectors)
+{
+    if (lower(selectors) == "all") return devices;
+    std::vector<DeviceInfo> out;
+    size_t start = 0;
+    for (;;) {
+        size_t comma = selectors.find(',', start);
+        std::string one = selectors.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (one.empty() && comma != std::string::npos) throw Error("-d " + selectors + ": an empty device selector");
+        out.push_back(selectDevice(devices, one));
+        if (comma == std::string::npos) return out;
+        start = comma + 1;
+    }
+}
+
 } // namespace wv

@@ -33,4 +33,9 @@ std::vector<DeviceInfo> enumerateDevices();
 // or platform name. Throws wv::Error when nothing matches.
 const DeviceInfo& selectDevice(const std::vector<DeviceInfo>& devices, const std::string& selector);
 
+// Several devices for one render: "all", or selectors as above separated by
+// commas ("0,2", "pthread,rusticl"); one selector gives one device. A device
+// named twice renders with two renderers of its own.
+std::vector<DeviceInfo> selectDevices(const std::vector<DeviceInfo>& devices, const std::string& selectors);
+
 } // namespace wv

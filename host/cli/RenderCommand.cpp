@@ -1,6 +1,7 @@
 #include "../Error.h"
 #include "../bvh/Bvh.h"
 #include "../image/TechniqueImages.h"
+#include "../render/MultiDeviceRender.h"
 #include "../render/Renderer.h"
 #include "../scene/GltfLoader.h"
 #include "Commands.h"
@@ -166,9 +167,11 @@ int runRender(const RenderOptions& o)
     std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
     Scene scene = prepareScene(o, scenePath);
     RenderSettings settings = renderSettings(o, scene);
+    std::vector<DeviceInfo> chosen = selectDevices(enumerateDevices(), o.device);
     std::unique_ptr<ErrorLog> errorLog;
     if (!o.errorLog.empty()) {
         if (o.reference.empty()) throw Error("--error-log needs --reference");
+        if (chosen.size() > 1) throw Error("--error-log needs a single device (-d)");
         errorLog = std::make_unique<ErrorLog>(o.errorLog, readImage(o.reference), o.reference);
         if (errorLog->width() != settings.width || errorLog->height() != settings.height)
             throw Error(o.reference + " is " + std::to_string(errorLog->width()) + "x" +
@@ -177,59 +180,63 @@ int runRender(const RenderOptions& o)
     }
 
     Bvh bvh = buildBvh(scene.vertices);
-    std::vector<DeviceInfo> devices = enumerateDevices();
-    DeviceContext device(selectDevice(devices, o.device), o.profile);
-    Renderer renderer(device, scene, bvh, settings);
+    std::vector<std::unique_ptr<DeviceContext>> contexts;
+    std::vector<DeviceContext*> devices;
+    for (const DeviceInfo& d : chosen) {
+        contexts.push_back(std::make_unique<DeviceContext>(d, o.profile));
+        devices.push_back(contexts.back().get());
+    }
+    MultiDeviceRender render(devices, scene, bvh, settings);
     double setupSeconds = since(setupStart);
-    if (!o.quiet)
+    for (size_t i = 0; i < render.deviceCount() && !o.quiet; ++i)
         std::fprintf(stderr, "wavevcm: %s, %zu triangles, %dx%d, %s on %s (%s); setup %.2f s (kernels %.2f s%s)\n",
                      scenePath.c_str(), scene.triangleCount(), settings.width, settings.height, o.algorithm.c_str(),
-                     device.info.name.c_str(), device.info.platformName.c_str(), setupSeconds,
-                     renderer.programBuild().seconds, renderer.programBuild().fromCache ? ", cached" : "");
+                     chosen[i].name.c_str(), chosen[i].platformName.c_str(), setupSeconds,
+                     render.renderer(i).programBuild().seconds,
+                     render.renderer(i).programBuild().fromCache ? ", cached" : "");
 
     int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
     ProgressBar progress(!o.quiet && ::isatty(STDERR_FILENO), spp, o.seconds);
     // Render time excludes the error log's work (reading the image back and
     // comparing it), so the log's times are what the render alone took.
-    double renderSeconds = 0;
-    while (!interruptSignal) {
-        auto start = std::chrono::steady_clock::now();
-        renderer.iterate();
-        renderSeconds += since(start);
-        if (errorLog) errorLog->add(renderSeconds, renderer.iterations(), renderer.image());
-        progress.update(renderer.iterations(), renderSeconds, double(settings.width) * settings.height);
-        if ((spp > 0 && renderer.iterations() >= spp) || (o.seconds > 0 && renderSeconds >= o.seconds)) break;
-    }
+    render.run(spp, o.seconds, [] { return interruptSignal != 0; },
+               [&](Renderer& renderer, int iterations, double seconds) {
+                   if (errorLog) errorLog->add(seconds, iterations, renderer.image());
+                   progress.update(iterations, seconds, double(settings.width) * settings.height);
+               });
+    const double renderSeconds = render.seconds();
     progress.finish();
     int exitCode = 0;
     int signal = interruptSignal;
     if (signal) {
         exitCode = 128 + signal;
-        if (renderer.iterations() == 0) {
+        if (render.iterations() == 0) {
             std::fprintf(stderr, "wavevcm: interrupted (%s) before the first iteration: no image written\n",
                          strsignal(signal));
             return exitCode;
         }
         std::fprintf(stderr, "wavevcm: interrupted (%s): writing the %d iterations rendered so far\n",
-                     strsignal(signal), renderer.iterations());
+                     strsignal(signal), render.iterations());
     }
     WritingFiles writing;
 
-    Image image = renderer.image();
-    uint64_t nonFinite = renderer.nonFiniteCount();
+    Image image = render.image();
+    uint64_t nonFinite = render.nonFiniteCount();
     writeImage(o.output, image);
     if (settings.techniques) {
         fs::path stem = fs::path(o.output).parent_path() / fs::path(o.output).stem();
-        writeTechniqueImages(stem.string(), renderer.techniqueImages());
+        writeTechniqueImages(stem.string(), render.techniqueImages());
     }
-    double samplesPerSecond = double(settings.width) * settings.height * renderer.iterations() / renderSeconds;
-    double raysPerSecond = double(renderer.raysTraced()) / renderSeconds;
+    double samplesPerSecond = double(settings.width) * settings.height * render.iterations() / renderSeconds;
+    double raysPerSecond = double(render.raysTraced()) / renderSeconds;
     if (!o.quiet)
         std::fprintf(stderr, "wavevcm: %d iterations in %.2f s (%.3g samples/s, %.3g rays/s) -> %s\n",
-                     renderer.iterations(), renderSeconds, samplesPerSecond, raysPerSecond, o.output.c_str());
-    if (o.profile) {
+                     render.iterations(), renderSeconds, samplesPerSecond, raysPerSecond, o.output.c_str());
+    for (size_t i = 0; i < render.deviceCount() && o.profile; ++i) {
+        const Renderer& renderer = render.renderer(i);
         double total = 0;
         for (const auto& [name, stats] : renderer.kernelStats()) total += stats.seconds;
+        if (render.deviceCount() > 1) std::fprintf(stderr, "wavevcm: on %s:\n", chosen[i].name.c_str());
         for (const auto& [name, stats] : renderer.kernelStats())
             std::fprintf(stderr, "wavevcm: kernel %-20s %8.3f s  %5.1f %%  %10.3g items/s\n", name.c_str(),
                          stats.seconds, 100 * stats.seconds / total, double(stats.items) / stats.seconds);
@@ -241,12 +248,12 @@ int runRender(const RenderOptions& o)
     if (!o.statsFile.empty()) {
         nlohmann::json stats = {
             {"scene", scenePath},
-            {"device", device.info.name},
-            {"platform", device.info.platformName},
+            {"device", chosen[0].name},
+            {"platform", chosen[0].platformName},
             {"algorithm", o.algorithm},
             {"width", settings.width},
             {"height", settings.height},
-            {"iterations", renderer.iterations()},
+            {"iterations", render.iterations()},
             {"render_seconds", renderSeconds},
             {"setup_seconds", setupSeconds},
             {"samples_per_second", samplesPerSecond},
@@ -258,13 +265,22 @@ int runRender(const RenderOptions& o)
             {"bvh_triangle_packets", bvh.packets.size()},
             {"bvh_sah_cost", bvh.sahCost},
             {"bvh_build_seconds", bvh.buildSeconds},
-            {"kernel_build_seconds", renderer.programBuild().seconds},
-            {"kernel_cache_hit", renderer.programBuild().fromCache},
-            {"wavefront", renderer.wavefront()},
-            {"merge_radius", renderer.mergeRadius()},
+            {"kernel_build_seconds", render.renderer(0).programBuild().seconds},
+            {"kernel_cache_hit", render.renderer(0).programBuild().fromCache},
+            {"wavefront", render.renderer(0).wavefront()},
+            {"merge_radius", render.renderer(0).mergeRadius()},
             {"scene_origin", {scene.origin[0], scene.origin[1], scene.origin[2]}},
-            {"device_bytes", renderer.deviceBytes()},
+            {"device_bytes", render.renderer(0).deviceBytes()},
         };
+        // Each device's share (several with -d 0,2 or -d all).
+        stats["devices"] = nlohmann::json::array();
+        for (size_t i = 0; i < render.deviceCount(); ++i)
+            stats["devices"].push_back(
+                {{"device", chosen[i].name},
+                 {"platform", chosen[i].platformName},
+                 {"iterations", render.renderer(i).iterations()},
+                 {"samples_per_second",
+                  double(settings.width) * settings.height * render.renderer(i).iterations() / renderSeconds}});
         // Device memory per texture (one float4 per texel).
         size_t textureBytes = 0;
         stats["textures"] = nlohmann::json::array();

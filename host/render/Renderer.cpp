@@ -207,7 +207,7 @@ void Renderer::ensureLightVertexCapacity(size_t vertices)
 void Renderer::setBatchConstants(int lightPaths)
 {
     float r1 = settings_.radiusFactor * sceneRadius_;
-    radius_ = useVM_ ? std::max(r1 * std::pow(float(iteration_ + 1), 0.5f * (settings_.radiusAlpha - 1.0f)),
+    radius_ = useVM_ ? std::max(r1 * std::pow(float(index_ + 1), 0.5f * (settings_.radiusAlpha - 1.0f)),
                                 1e-7f * sceneRadius_)
                      : 0.0f;
     float eta = float(M_PI) * radius_ * radius_ * float(lightPaths);
@@ -356,9 +356,11 @@ bool Renderer::renderBatches()
     return true;
 }
 
-void Renderer::iterate()
+void Renderer::iterate(int index)
 {
-    params_.iteration = uint32_t(iteration_);
+    index_ = index;
+    params_.iteration = uint32_t(index);
+    params_.accumulated = iteration_;
     if (!bidirectional_) {
         runPhase(cameraPhase_, 0, pixels_);
     } else {

@@ -44,10 +44,14 @@ public:
     Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings);
 
     // Runs one iteration (one sample per pixel; one light path per pixel for
-    // the bidirectional algorithms) to completion.
-    void iterate();
+    // the bidirectional algorithms) to completion and folds it into the
+    // image. `index` is its global index, 0, 1, 2, ...: its random numbers
+    // and merge radius depend on it alone (MultiDeviceRender gives devices
+    // different ones); without it, the next after this renderer's last.
+    void iterate(int index);
+    void iterate() { iterate(iteration_); }
 
-    int iterations() const { return iteration_; }
+    int iterations() const { return iteration_; } // iterations folded into image()
     uint64_t raysTraced() const { return rays_; } // extended and shadow rays, all iterations
     Image image();
     // The running means of the unidirectional (emission hits, next-event
@@ -121,6 +125,7 @@ private:
     float sceneRadius_ = 0, radius_ = 0;
     std::unique_ptr<HashGrid> grid_; // merging only
     int batch_ = 0;
+    int index_ = 0; // global index of the iteration in flight
     int restartedIterations_ = 0;
     int pixels_ = 0;
     int iteration_ = 0;

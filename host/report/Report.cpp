@@ -406,7 +406,12 @@ void writeReport(const ReportOptions& o)
 
         // Renders `settings` for `seconds` of render time, calling `after`
         // after each iteration with the time so far (its own work untimed).
+        // A throwaway renderer runs one iteration first: PoCL compiles each
+        // kernel's work-group function at its first launch (seconds, cold),
+        // which would otherwise be charged to whichever render came first.
         auto renderFor = [&](RenderSettings settings, double seconds, const std::string& what, auto after) {
+            progress.update(done, result.name + ": " + what + " (warming up)");
+            Renderer(device, scene, bvh, settings).iterate();
             Renderer renderer(device, scene, bvh, settings);
             double rendered = 0;
             while (rendered < seconds) {

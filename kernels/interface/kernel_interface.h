@@ -100,7 +100,8 @@ typedef struct LaunchParams {
     int firstSplatPath;  /* light paths from this index on splat onto the image (lt, bpt, vcm); the
                           * others did in an earlier pass, or never do (ppm, bpm) */
     /* The iteration and light-path batch */
-    uint iteration;
+    uint iteration;       /* the global index of this iteration (random numbers, merge radius) */
+    int accumulated;      /* iterations already in this renderer's running means */
     int firstLightPath;   /* light path index of the batch's first path */
     int vertexCapacity;   /* lightVertices' length */
     float vmWeightFactor; /* Georgiev's report, eq. 20: η_VCM = π r² N_light, 0 without merging */

@@ -40,7 +40,7 @@ __kernel void accumulate(RENDER_KERNEL_PARAMS)
         atomic_inc(&queueCounters[COUNTER_INDEX(COUNTER_NONFINITE)]);
         x = unidirectional = connection = merging = v3s(0.0f);
     }
-    float inv = 1.0f / (float)(params.iteration + 1);
+    float inv = 1.0f / (float)(params.accumulated + 1);
     update_mean(framebuffer, pixel, x, inv);
     if (params.techniques) {
         update_mean(familyMeans, 3 * pixel, unidirectional, inv);

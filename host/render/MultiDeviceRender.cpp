@@ -1,0 +1,129 @@
+#include "MultiDeviceRender.h"
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+namespace wv {
+
+MultiDeviceRender::MultiDeviceRender(const std::vector<DeviceContext*>& devices, const Scene& scene, const Bvh& bvh,
+                                     const RenderSettings& settings)
+    : devices_(devices)
+{
+    for (DeviceContext* d : devices) renderers_.push_back(std::make_unique<Renderer>(*d, scene, bvh, settings));
+}
+
+void MultiDeviceRender::run(int iterations, double seconds, const std::function<bool()>& stop,
+                            const IterationDone& done)
+{
+    using clock = std::chrono::steady_clock;
+    std::atomic<int> next{0}, finished{0};
+    std::atomic<bool> failed{false};
+    std::mutex callback;
+    std::exception_ptr error;
+    double excluded = 0; // callback time, under `callback`
+    const clock::time_point start = clock::now();
+    auto renderSeconds = [&] { return std::chrono::duration<double>(clock::now() - start).count() - excluded; };
+
+    auto work = [&](Renderer& renderer) {
+        try {
+            for (;;) {
+                {
+                    std::lock_guard<std::mutex> lock(callback);
+                    if (failed || stop() || (seconds > 0 && renderSeconds() >= seconds)) return;
+                }
+                int index = next.fetch_add(1);
+                if (iterations > 0 && index >= iterations) return;
+                renderer.iterate(index);
+                std::lock_guard<std::mutex> lock(callback);
+                int all = ++finished;
+                clock::time_point before = clock::now();
+                double now = renderSeconds();
+                if (done) done(renderer, all, now);
+                excluded += std::chrono::duration<double>(clock::now() - before).count();
+            }
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(callback);
+            if (!failed) error = std::current_exception();
+            failed = true;
+        }
+    };
+    if (renderers_.size() == 1) {
+        work(*renderers_[0]);
+    } else {
+        std::vector<std::thread> threads;
+        for (auto& r : renderers_) threads.emplace_back(work, std::ref(*r));
+        for (std::thread& t : threads) t.join();
+    }
+    seconds_ += renderSeconds();
+    if (error) std::rethrow_exception(error);
+}
+
+int MultiDeviceRender::iterations() const
+{
+    int n = 0;
+    for (const auto& r : renderers_) n += r->iterations();
+    return n;
+}
+
+uint64_t MultiDeviceRender::raysTraced() const
+{
+    uint64_t n = 0;
+    for (const auto& r : renderers_) n += r->raysTraced();
+    return n;
+}
+
+uint64_t MultiDeviceRender::nonFiniteCount()
+{
+    uint64_t n = 0;
+    for (auto& r : renderers_) n += r->nonFiniteCount();
+    return n;
+}
+
+// Each renderer's image is the mean of its iterations: weighted by their
+// counts, in double.
+static Image weightedMean(const std::vector<Image>& images, const std::vector<int>& counts)
+{
+    Image out(images[0].width, images[0].height);
+    double total = 0;
+    for (int c : counts) total += c;
+    if (total == 0) return out;
+    for (size_t i = 0; i < out.rgb.size(); ++i) {
+        double sum = 0;
+        for (size_t d = 0; d < images.size(); ++d) sum += double(images[d].rgb[i]) * counts[d];
+        out.rgb[i] = float(sum / total);
+    }
+    return out;
+}
+
+Image MultiDeviceRender::image()
+{
+    if (renderers_.size() == 1) return renderers_[0]->image();
+    std::vector<Image> images;
+    std::vector<int> counts;
+    for (auto& r : renderers_) {
+        images.push_back(r->image());
+        counts.push_back(r->iterations());
+    }
+    return weightedMean(images, counts);
+}
+
+std::array<Image, 3> MultiDeviceRender::techniqueImages()
+{
+    if (renderers_.size() == 1) return renderers_[0]->techniqueImages();
+    std::array<std::vector<Image>, 3> families;
+    std::vector<int> counts;
+    for (auto& r : renderers_) {
+        std::array<Image, 3> f = r->techniqueImages();
+        for (int k = 0; k < 3; ++k) families[size_t(k)].push_back(f[size_t(k)]);
+        counts.push_back(r->iterations());
+    }
+    std::array<Image, 3> out;
+    for (int k = 0; k < 3; ++k)
+        if (families[size_t(k)][0].width > 0) out[size_t(k)] = weightedMean(families[size_t(k)], counts);
+    return out;
+}
+
+} // namespace wv
