@@ -9,6 +9,38 @@
 #include <iostream>
 #include <sstream>
 
+// The options `render` and `report` share: device, resolution, path length,
+// seed, merge radius, camera and background.
+static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severalDevices)
+{
+    command->add_option("-d,--device", o.device,
+                        std::string("device index from `wavevcm devices`, or a substring of its name") +
+                            (severalDevices ? "; several, comma-separated, or all: they render together" : ""));
+    command->add_option("--width", o.width, "image width (default: from the camera's aspect ratio)");
+    command->add_option("--height", o.height, "image height (default 512)");
+    command->add_option("--max-path-length", o.maxPathLength, "segments of a full path, camera segment included")
+        ->capture_default_str();
+    command->add_option("--seed", o.seed, "random seed")->capture_default_str();
+    command->add_option("--wavefront", o.wavefront, "path slots per wavefront (default: by device type)");
+    command->add_option("--radius-factor", o.radiusFactor,
+                        "merge radius of the first iteration, times the scene's bounding-sphere radius")
+        ->capture_default_str();
+    command->add_option("--radius-alpha", o.radiusAlpha, "radius reduction: r_i = r_1 i^((alpha-1)/2)")
+        ->capture_default_str();
+    command->add_option("--camera", o.camera, "render from the file's N-th perspective camera (0 = the first)")
+        ->check(CLI::NonNegativeNumber);
+    command->add_option("--background", o.background,
+                        "uniform background radiance R,G,B (replaces the scene's; 0,0,0 for none)");
+    command->add_option("--environment", o.environment,
+                        "equirectangular environment map (.exr, .hdr or .pfm, linear radiance) as the background, "
+                        "importance-sampled; replaces the scene's background");
+    command->add_option("--environment-strength", o.environmentStrength, "radiance scale of --environment")
+        ->capture_default_str();
+    command->add_option("--environment-rotation", o.environmentRotation,
+                        "turn of --environment about the up axis (+y), degrees")
+        ->capture_default_str();
+}
+
 int main(int argc, char** argv)
 {
     CLI::App app{"wavevcm: vertex connection and merging, and the techniques it unifies, on any OpenCL device"};
@@ -22,31 +54,8 @@ int main(int argc, char** argv)
     render->add_option("-a,--algorithm", r.algorithm, "el | pt | lt | bpt | ppm | bpm | vcm")->capture_default_str();
     render->add_option("-n,--spp", r.spp, "iterations (one jittered camera sample per pixel each); default 16");
     render->add_option("-t,--time", r.seconds, "wall-clock budget in seconds: whole iterations until it is spent");
-    render->add_option("-d,--device", r.device, "device index from `wavevcm devices`, or a substring of its name");
-    render->add_option("--width", r.width, "image width (default: from the camera's aspect ratio)");
-    render->add_option("--height", r.height, "image height (default 512)");
-    render->add_option("--max-path-length", r.maxPathLength, "segments of a full path, camera segment included")
-        ->capture_default_str();
-    render->add_option("--seed", r.seed, "random seed")->capture_default_str();
-    render->add_option("--wavefront", r.wavefront, "path slots per wavefront (default: by device type)");
-    render->add_option("--radius-factor", r.radiusFactor,
-                       "merge radius of the first iteration, times the scene's bounding-sphere radius")
-        ->capture_default_str();
-    render->add_option("--radius-alpha", r.radiusAlpha, "radius reduction: r_i = r_1 i^((alpha-1)/2)")
-        ->capture_default_str();
+    addSceneOptions(render, r, true);
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
-    render->add_option("--camera", r.camera, "render from the file's N-th perspective camera (0 = the first)")
-        ->check(CLI::NonNegativeNumber);
-    render->add_option("--background", r.background,
-                       "uniform background radiance R,G,B (replaces the scene's; 0,0,0 for none)");
-    render->add_option("--environment", r.environment,
-                       "equirectangular environment map (.exr, .hdr or .pfm, linear radiance) as the background, "
-                       "importance-sampled; replaces the scene's background");
-    render->add_option("--environment-strength", r.environmentStrength, "radiance scale of --environment")
-        ->capture_default_str();
-    render->add_option("--environment-rotation", r.environmentRotation,
-                       "turn of --environment about the up axis (+y), degrees")
-        ->capture_default_str();
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
     render->add_flag("--profile", r.profile, "print the device time spent in each kernel");
     render->add_option("--reference", r.reference, "reference image for --error-log (same resolution)");
@@ -71,27 +80,7 @@ int main(int argc, char** argv)
                        "reference image of each scene, in the scenes' order (default: render one with vcm)");
     report->add_option("--reference-seconds", rep.referenceSeconds,
                        "vcm's render time for each reference (default 6 times --time)");
-    report->add_option("-d,--device", rep.render.device, "device index from `wavevcm devices`, or a substring of its name");
-    report->add_option("--width", rep.render.width, "image width (default: from the camera's aspect ratio)");
-    report->add_option("--height", rep.render.height, "image height (default 512)");
-    report->add_option("--max-path-length", rep.render.maxPathLength, "segments of a full path, camera segment included")
-        ->capture_default_str();
-    report->add_option("--seed", rep.render.seed, "random seed")->capture_default_str();
-    report->add_option("--wavefront", rep.render.wavefront, "path slots per wavefront (default: by device type)");
-    report->add_option("--radius-factor", rep.render.radiusFactor,
-                       "merge radius of the first iteration, times the scene's bounding-sphere radius")
-        ->capture_default_str();
-    report->add_option("--radius-alpha", rep.render.radiusAlpha, "radius reduction: r_i = r_1 i^((alpha-1)/2)")
-        ->capture_default_str();
-    report->add_option("--camera", rep.render.camera, "render from the file's N-th perspective camera (0 = the first)")
-        ->check(CLI::NonNegativeNumber);
-    report->add_option("--background", rep.render.background, "uniform background radiance R,G,B");
-    report->add_option("--environment", rep.render.environment, "equirectangular environment map as the background");
-    report->add_option("--environment-strength", rep.render.environmentStrength, "radiance scale of --environment")
-        ->capture_default_str();
-    report->add_option("--environment-rotation", rep.render.environmentRotation,
-                       "turn of --environment about the up axis (+y), degrees")
-        ->capture_default_str();
+    addSceneOptions(report, rep.render, false);
     report->add_flag("-q,--quiet", rep.quiet, "print nothing but errors and warnings");
 
     app.add_subcommand("devices", "list every OpenCL platform and device");

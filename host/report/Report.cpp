@@ -360,6 +360,8 @@ void validate(const ReportOptions& o)
         if (!seen.insert(a).second) throw Error("report: algorithm " + a + " given twice");
     }
     if (o.outputDir.empty()) throw Error("report: no output directory (-o DIR)");
+    if (o.render.device.find(',') != std::string::npos || o.render.device == "all")
+        throw Error("report: -d takes one device (each render's time is measured on it)");
     for (const std::string& s : o.scenes)
         if (!fs::is_regular_file(s)) throw Error(s + ": no such file");
     for (const std::string& r : o.references)
