@@ -1228,6 +1228,23 @@ TEST_F(GltfLoader, DracoCompressedMeshGivesTheTrianglesOfTheList)
 #endif
 }
 
+// A file made by Draco's own tool (draco_transcoder -qp 14 on the fuzz seed
+// triangle.gltf, positions quantized to 14 bits): the same triangle, within
+// the quantization step (the triangle spans 1 unit: 2^-14 ≈ 6e-5).
+TEST_F(GltfLoader, DracoFileFromDracoTranscoderLoads)
+{
+    if (!dracoSupported()) GTEST_SKIP() << "built without Draco (libdraco-dev)";
+    const std::string seeds = std::string(WAVEVCM_SOURCE_DIR) + "/tests/fuzz/seeds/";
+    Scene plain = loadGltf(seeds + "triangle.gltf"), draco = loadGltf(seeds + "triangle-draco.glb");
+    ASSERT_EQ(draco.triangleCount(), plain.triangleCount());
+    for (size_t k = 0; k < 3; ++k) {
+        bool found = false;
+        for (size_t j = 0; j < 3; ++j) found = found || near(draco.vertices[k], plain.vertices[j], 1.5e-4f);
+        EXPECT_TRUE(found) << "corner " << k;
+    }
+    EXPECT_TRUE(near(triangleNormal(draco, 0), triangleNormal(plain, 0), 1e-3f)) << "winding kept";
+}
+
 TEST_F(GltfLoader, DracoErrorsNameTheExtension)
 {
     if (!dracoSupported()) GTEST_SKIP() << "built without Draco (libdraco-dev)";
