@@ -41,6 +41,9 @@ protected:
         Image half(2, 1); // white, black: the left half of the quad emits, fading out towards the middle
         half.rgb = {1, 1, 1, 0, 0, 0};
         writeImage((dir_ / "half.png").string(), half);
+        Image redGreen(2, 1); // red, green
+        redGreen.rgb = {1, 0, 0, 0, 1, 0};
+        writeImage((dir_ / "redgreen.png").string(), redGreen);
     }
     void TearDown() override { fs::remove_all(dir_); }
 
@@ -146,6 +149,23 @@ TEST_F(EmissiveTextures, SelectionFollowsTheTexturesPower)
     // Scene triangle 1 is the top-left one, corners (-1, -1), (1, 1), (-1, 1).
     EXPECT_NEAR(pmf[0] + pmf[1], 1.0f, 1e-6);
     EXPECT_NEAR(pmf[1], 0.7292f, 0.03f);
+}
+
+// The power is that of factor × texel, not lum(factor) × lum(texel): a green
+// factor over a red-to-green ramp (the same ramp as above in the green
+// channel, its complement in red) emits only where the texture is green, so
+// the top-left triangle's share is 1 − 0.7292 = 0.2708. Weighing the
+// factor's and the texture's luminances apart would give it 0.376.
+TEST_F(EmissiveTextures, SelectionWeighsFactorTimesTexel)
+{
+    Scene s = loadGltf(emitter("colour", "redgreen.png", {0, 1, 0}));
+    ASSERT_EQ(s.triangleCount(), 2u);
+    Bvh bvh = buildBvh(s.vertices);
+    LightTable table = buildLightTable(s, bvh);
+    ASSERT_EQ(table.lights.size(), 2u);
+    float pmf[2];
+    for (const Light& l : table.lights) pmf[bvh.triangleOrder[size_t(l.triangle)]] = l.pmf;
+    EXPECT_NEAR(pmf[1], 0.2708f, 0.03f);
 }
 
 } // namespace

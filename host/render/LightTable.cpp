@@ -24,10 +24,12 @@ static double power(const Light& l, double sceneRadius, const EnvironmentLight& 
     return 0;
 }
 
-// The mean luminance of an emissive texture over scene triangle `tri`, from
-// 16 stratified points, kept above zero so that no part of an emitter that
-// does emit is left unselectable.
-static double textureMeanOverTriangle(const Scene& scene, const Texture& texture, uint32_t tri)
+// How much an emissive texture scales a triangle's power: the mean over
+// scene triangle `tri` (16 stratified points) of the luminance of emission ×
+// texel, over the luminance of `emission` alone (exact for coloured factors,
+// the luminance being linear in the channels); kept above zero so that no
+// part of an emitter that does emit is left unselectable.
+static double texturePowerScale(const Scene& scene, const Texture& texture, uint32_t tri, const float* emission)
 {
     const float* uv = &(texture.texCoord == 1 ? scene.uvs1 : scene.uvs)[6 * size_t(tri)];
     double sum = 0;
@@ -37,9 +39,9 @@ static double textureMeanOverTriangle(const Scene& scene, const Texture& texture
             if (b1 + b2 > 1) b1 = 1 - b1, b2 = 1 - b2; // folded into the triangle
             float b0 = 1 - b1 - b2;
             Vec3 c = texture.sample(b0 * uv[0] + b1 * uv[2] + b2 * uv[4], b0 * uv[1] + b1 * uv[3] + b2 * uv[5]);
-            sum += 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+            sum += 0.2126 * emission[0] * c.x + 0.7152 * emission[1] * c.y + 0.0722 * emission[2] * c.z;
         }
-    return std::max(sum / 16, 1e-4);
+    return std::max(sum / 16 / luminance(emission), 1e-4);
 }
 
 LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
@@ -73,7 +75,8 @@ LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
         t.triangleLight[i] = int(t.lights.size());
         t.lights.push_back(l);
         powerScale.push_back(m.emissiveTexture > 0 && !scene.uvs.empty()
-                                 ? textureMeanOverTriangle(scene, scene.textures[size_t(m.emissiveTexture) - 1], tri)
+                                 ? texturePowerScale(scene, scene.textures[size_t(m.emissiveTexture) - 1], tri,
+                                                     m.emission)
                                  : 1.0);
     }
     if (scene.features().background) {
