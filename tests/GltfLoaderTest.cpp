@@ -1292,6 +1292,40 @@ TEST_F(GltfLoader, EveryEncodingOfOneMeshRendersTheSameImage)
     }
 }
 
+// Tangents made from the UVs at a mirror seam: a strip whose u runs 0 → 1 →
+// 0 along x shares its middle vertices between the two halves. Summed over
+// both (as per-vertex averaging does) the halves' ∂p/∂u cancel there; kept
+// apart by UV winding, as MikkTSpace keeps them, every corner of the left
+// half gets +x (handedness +1) and every corner of the right half −x
+// (handedness −1: its bitangent still points up the texture).
+TEST_F(GltfLoader, GeneratedTangentsKeepMirroredHalvesApart)
+{
+    Image texture(1, 1);
+    texture.rgb = {0.5f, 0.5f, 1.0f};
+    writeImage((dir_ / "flat.png").string(), texture);
+    GltfBuilder b;
+    std::vector<Vec3> p = {{-1, 0, 0}, {0, 0, 0}, {1, 0, 0}, {-1, 1, 0}, {0, 1, 0}, {1, 1, 0}};
+    std::vector<float> uv = {0, 1, 1, 1, 0, 1, 0, 0, 1, 0, 0, 0}; // v = 1 at the bottom row
+    int pos = b.addVec3s(p);
+    int tex = b.addAccessor(b.addView(uv.data(), uv.size() * 4), kFloat, "VEC2", 6);
+    int idx = b.addIndices<uint16_t>({0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4});
+    b.j["images"] = {{{"uri", "flat.png"}}};
+    b.j["textures"] = {{{"source", 0}}};
+    int material = b.addMaterial({{"normalTexture", {{"index", 0}}}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
+    json prim = primitive(pos, -1, idx, material);
+    prim["attributes"]["TEXCOORD_0"] = tex;
+    b.addNode({{"mesh", b.addMesh({prim})}});
+    Scene s = load(b, "mirrored");
+    ASSERT_EQ(s.triangleCount(), 4u);
+    ASSERT_EQ(s.tangents.size(), 12u);
+    for (size_t c = 0; c < 12; ++c) {
+        bool left = c < 6;
+        const std::array<float, 4>& t = s.tangents[c];
+        EXPECT_TRUE(near(Vec3(t[0], t[1], t[2]), Vec3(left ? 1.0f : -1.0f, 0, 0), 1e-5f)) << "corner " << c;
+        EXPECT_EQ(t[3], left ? 1.0f : -1.0f) << "corner " << c;
+    }
+}
+
 TEST_F(GltfLoader, Gltf1IsRefusedByName)
 {
     fs::path path = dir_ / "old.gltf";
