@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <array>
 #include <filesystem>
 #include <unistd.h>
 
@@ -130,6 +131,20 @@ TEST_F(EmissiveTextures, EveryTechniqueReadsTheTexel)
     }
 }
 
+// The selection probabilities of an emissive quad's two triangles, by scene
+// triangle: 1 is the top-left one, corners (-1, -1), (1, 1), (-1, 1).
+std::array<float, 2> selectionOfTriangles(const std::string& file)
+{
+    Scene s = loadGltf(file);
+    EXPECT_EQ(s.triangleCount(), 2u);
+    Bvh bvh = buildBvh(s.vertices);
+    LightTable table = buildLightTable(s, bvh);
+    EXPECT_EQ(table.lights.size(), 2u);
+    std::array<float, 2> pmf{};
+    for (const Light& l : table.lights) pmf[bvh.triangleOrder[size_t(l.triangle)] % 2] = l.pmf;
+    return pmf;
+}
+
 // Light selection by power counts the texture: of the quad's two triangles,
 // the top-left one holds most of the emitting (left) half. Over it u has
 // density 2(1 − u) and the texture is 1 for u < 1/4, 1.5 − 2u up to 3/4, 0
@@ -139,14 +154,7 @@ TEST_F(EmissiveTextures, EveryTechniqueReadsTheTexel)
 // here); untextured, each triangle would get 1/2.
 TEST_F(EmissiveTextures, SelectionFollowsTheTexturesPower)
 {
-    Scene s = loadGltf(emitter("half", "half.png", {1, 1, 1}));
-    ASSERT_EQ(s.triangleCount(), 2u);
-    Bvh bvh = buildBvh(s.vertices);
-    LightTable table = buildLightTable(s, bvh);
-    ASSERT_EQ(table.lights.size(), 2u);
-    float pmf[2];
-    for (const Light& l : table.lights) pmf[bvh.triangleOrder[size_t(l.triangle)]] = l.pmf;
-    // Scene triangle 1 is the top-left one, corners (-1, -1), (1, 1), (-1, 1).
+    std::array<float, 2> pmf = selectionOfTriangles(emitter("half", "half.png", {1, 1, 1}));
     EXPECT_NEAR(pmf[0] + pmf[1], 1.0f, 1e-6);
     EXPECT_NEAR(pmf[1], 0.7292f, 0.03f);
 }
@@ -158,13 +166,7 @@ TEST_F(EmissiveTextures, SelectionFollowsTheTexturesPower)
 // factor's and the texture's luminances apart would give it 0.376.
 TEST_F(EmissiveTextures, SelectionWeighsFactorTimesTexel)
 {
-    Scene s = loadGltf(emitter("colour", "redgreen.png", {0, 1, 0}));
-    ASSERT_EQ(s.triangleCount(), 2u);
-    Bvh bvh = buildBvh(s.vertices);
-    LightTable table = buildLightTable(s, bvh);
-    ASSERT_EQ(table.lights.size(), 2u);
-    float pmf[2];
-    for (const Light& l : table.lights) pmf[bvh.triangleOrder[size_t(l.triangle)]] = l.pmf;
+    std::array<float, 2> pmf = selectionOfTriangles(emitter("colour", "redgreen.png", {0, 1, 0}));
     EXPECT_NEAR(pmf[1], 0.2708f, 0.03f);
 }
 

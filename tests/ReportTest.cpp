@@ -58,7 +58,7 @@ protected:
         o.outputDir = dir_.string();
         o.render.width = 64;
         o.render.height = 64;
-        o.render.device = std::to_string(0); // the first device, as the other tests
+        o.render.device = "0"; // the first device, as the other tests
         o.quiet = true;
         writeReport(o);
     }

@@ -330,8 +330,9 @@ void Loader::load()
     if (!fs::is_regular_file(path_, ec)) throw Error(path_ + ": not a regular file");
 
     std::ifstream in(path_, std::ios::binary);
+    if (!in) fail("cannot open the file");
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof()) fail("cannot read the file");
+    if (in.bad()) fail("cannot read the file");
     if (bytes.size() > std::numeric_limits<unsigned>::max()) fail("files over 4 GiB are not supported");
     std::string ext = fs::path(path_).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
