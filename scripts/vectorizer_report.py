@@ -10,9 +10,17 @@ follow the remark that inlines the kernel into it) and prints, per kernel,
 the loops vectorized and the reasons the others were not.
 
   scripts/vectorizer_report.py [-a vcm] [--scene S] [--require K1,K2]
+      [--locations] [--build-options "-DNO_PREFETCH"]
+      [--llvm-options "-slp-threshold=100000 -force-vector-width=8"]
 
 --require: exit 1 unless each named kernel has a vectorized loop (for a check
-that fails when a kernel stops vectorizing). Standard library only.
+that fails when a kernel stops vectorizing).
+--locations: builds the kernels with -g, so each reason names the kernel
+source line it is about.
+--build-options, --llvm-options: experiments. Extra kernel build options, and
+options for the LLVM inside PoCL (which PoCL itself does not take), through
+scripts/pocl_llvm_options.c, compiled here with cc and loaded with LD_PRELOAD.
+Standard library only.
 """
 import argparse
 import collections
@@ -31,10 +39,19 @@ def main():
     p.add_argument("--scene", default=os.path.join(ROOT, "scenes", "cornell-box.gltf"))
     p.add_argument("--wavevcm", default=os.path.join(ROOT, "build", "wavevcm"))
     p.add_argument("--require", default="", help="comma-separated kernels that must have a vectorized loop")
+    p.add_argument("--locations", action="store_true", help="kernel source line of each reason (builds with -g)")
+    p.add_argument("--build-options", default="", help="extra kernel build options, e.g. -DNO_PREFETCH")
+    p.add_argument("--llvm-options", default="", help="options for PoCL's LLVM, e.g. -slp-threshold=100000")
     args = p.parse_args()
+    build_options = (args.build_options + (" -g" if args.locations else "")).strip()
 
     with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
         env = dict(os.environ, POCL_VECTORIZER_REMARKS="1", POCL_CACHE_DIR=cache, WAVEVCM_CACHE_DIR="off")
+        if build_options or args.llvm_options:
+            shim = os.path.join(out, "pocl_llvm_options.so")
+            subprocess.run(["cc", "-O2", "-shared", "-fPIC", "-o", shim,
+                            os.path.join(ROOT, "scripts", "pocl_llvm_options.c"), "-ldl"], check=True)
+            env.update(LD_PRELOAD=shim, KERNEL_BUILD_OPTIONS=build_options, POCL_LLVM_OPTIONS=args.llvm_options)
         run = subprocess.run([args.wavevcm, "render", args.scene, "-a", args.algorithm, "-n", "1", "--width", "32",
                               "--height", "32", "-d", "pthread", "-q", "-o", os.path.join(out, "x.exr")],
                              env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -45,7 +62,15 @@ def main():
     reasons = collections.defaultdict(collections.Counter)
     kernel = None
     marker = re.compile(r"'_pocl_kernel_(\w+)' inlined into '_pocl_kernel_\1_workgroup'")
-    for remark in run.stdout.split("<unknown>:0:0: "):
+    # PoCL prints the remarks one after another with no separator: split at
+    # each remark's location, "<unknown>:0:0: " or, built with -g, a kernel
+    # source file's "name.cl:line:column: ".
+    sources = sorted({f for _, _, files in os.walk(os.path.join(ROOT, "kernels")) for f in files}, key=len,
+                     reverse=True)
+    location = re.compile("(<unknown>|" + "|".join(map(re.escape, sources)) + r"):(\d+):\d+: ")
+    pieces = location.split(run.stdout)
+    for file, line, remark in zip(pieces[1::3], pieces[2::3], pieces[3::3]):
+        where = f" ({file}:{line})" if args.locations and file != "<unknown>" else ""
         m = marker.search(remark)
         if m:
             kernel = m.group(1)
@@ -55,7 +80,9 @@ def main():
         if remark.startswith("vectorized loop"):
             vectorized[kernel] += 1
         elif remark.startswith("loop not vectorized: "):
-            reasons[kernel][remark[len("loop not vectorized: "):].strip()] += 1
+            reasons[kernel][remark[len("loop not vectorized: "):].strip() + where] += 1
+        elif remark.startswith("the cost-model indicates that vectorization is not beneficial"):
+            reasons[kernel]["legal, but the cost model says not beneficial" + where] += 1
 
     kernels = sorted(set(vectorized) | set(reasons))
     print("| kernel | loops vectorized | not vectorized, by reason |")

@@ -2,11 +2,13 @@
  * that a dependent load (a light path's next vertex, a hash-grid bucket)
  * does not stall the work-item on a cache miss. CPU devices only (PoCL
  * compiles for the host's x86 target, where clang's builtin becomes a
- * prefetch instruction); elsewhere the hint is nothing. */
+ * prefetch instruction); elsewhere the hint is nothing. A prefetch keeps
+ * LLVM's loop vectorizer off the work-item loop it is in: -DNO_PREFETCH
+ * builds without them, for scripts/vectorizer_report.py's experiments. */
 #ifndef WAVEVCM_PREFETCH_H
 #define WAVEVCM_PREFETCH_H
 
-#if defined(__x86_64__) || defined(__i386__)
+#if (defined(__x86_64__) || defined(__i386__)) && !defined(NO_PREFETCH)
 #define HAS_PREFETCH 1
 /* The first and the last cache line of [p, p + bytes): all of it for what
  * spans at most two 64-byte lines (an 80-byte LightVertex or a triangle's
