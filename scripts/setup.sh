@@ -13,6 +13,7 @@ packages=(
   libopenimageio-dev openimageio-tools                    # the tools: Debian's OpenImageIO CMake config requires them
   libtinygltf-dev nlohmann-json3-dev libcli11-dev
   libdraco-dev                                             # Draco-compressed glTF meshes
+  libopenmpi-dev openmpi-bin                               # optional: render with mpirun across machines
   libgtest-dev libbenchmark-dev
   clang libclang-rt-dev                                    # the glTF loader's fuzz target (libFuzzer)
   libembree-dev                                            # optional: the ray benchmarks compare with Embree

@@ -23,7 +23,7 @@ struct Result {
 };
 
 Result renderOn(const std::vector<DeviceInfo>& infos, const Scene& scene, Algorithm algorithm, int iterations,
-                uint32_t seed)
+                uint32_t seed, IterationSchedule schedule = {})
 {
     std::vector<std::unique_ptr<DeviceContext>> contexts;
     std::vector<DeviceContext*> devices;
@@ -39,7 +39,8 @@ Result renderOn(const std::vector<DeviceInfo>& infos, const Scene& scene, Algori
     s.wavefront = 512;
     Bvh bvh = buildBvh(scene.vertices);
     MultiDeviceRender render(devices, scene, bvh, s);
-    render.run(iterations, 0, [] { return false; }, nullptr);
+    schedule.end = iterations;
+    render.run(schedule, 0, [] { return false; }, nullptr);
     Result r{render.image(), {}};
     for (size_t i = 0; i < render.deviceCount(); ++i) r.shares.push_back(render.renderer(i).iterations());
     return r;
@@ -75,6 +76,88 @@ TEST(MultiDevice, PoclAndRusticlTogetherGiveTheImageOfOne)
     double rounding = compareImages(both.image, one.image).relMse, noise = compareImages(otherSeed.image, one.image).relMse;
     // Same samples: only paths that rounding sends another way differ.
     EXPECT_LT(rounding, 0.05 * noise) << "two devices " << rounding << ", another seed " << noise;
+}
+
+// The schedules of an MPI job's ranks (host/cluster): rank r of K renders the
+// global indices r, r + K, ... below the job's count.
+TEST(MultiDevice, ScheduleCountsItsIndices)
+{
+    EXPECT_EQ((IterationSchedule{0, 1, 16}.count()), 16);
+    EXPECT_EQ((IterationSchedule{0, 3, 8}.count()), 3); // 0 3 6
+    EXPECT_EQ((IterationSchedule{2, 3, 8}.count()), 2); // 2 5
+    EXPECT_EQ((IterationSchedule{3, 4, 3}.count()), 0); // a rank beyond the job's iterations
+    EXPECT_EQ((IterationSchedule{1, 2, 0}.count()), -1); // no end (-t)
+}
+
+// Two interleaved schedules, summed by count as rank 0 sums the ranks'
+// images, give the image of one process rendering every index: the random
+// numbers and merge radius follow the global index, not the process. Run
+// in pieces (as between checkpoints), a schedule goes on where it stopped.
+TEST(MultiDevice, InterleavedSchedulesGiveTheImageOfOneProcess)
+{
+    Scene scene = loadGltf(test::cornellBoxPath());
+    DeviceInfo device = test::devicesUnderTest()[0];
+    for (Algorithm a : {Algorithm::PathTracing, Algorithm::VertexConnectionMerging}) {
+        SCOPED_TRACE(algorithmName(a));
+        Result one = renderOn({device}, scene, a, 7, 5);
+        Result even = renderOn({device}, scene, a, 7, 5, IterationSchedule{0, 2});
+        Result odd = renderOn({device}, scene, a, 7, 5, IterationSchedule{1, 2});
+        ASSERT_EQ(even.shares[0], 4);
+        ASSERT_EQ(odd.shares[0], 3);
+        Image sum(one.image.width, one.image.height);
+        for (size_t i = 0; i < sum.rgb.size(); ++i)
+            sum.rgb[i] = float((double(even.image.rgb[i]) * 4 + double(odd.image.rgb[i]) * 3) / 7);
+        EXPECT_LT(compareImages(sum, one.image).relMse, 1e-10);
+        // The halves are other samples (ranks that all began at index 0 would
+        // repeat one another): they differ by noise, not rounding.
+        EXPECT_GT(compareImages(odd.image, even.image).relMse, 1e-4);
+    }
+    // In pieces: 3 iterations, then the rest, equal one run.
+    RenderSettings s;
+    s.algorithm = Algorithm::PathTracing;
+    s.width = s.height = 32;
+    s.seed = 5;
+    s.wavefront = 512;
+    Bvh bvh = buildBvh(scene.vertices);
+    auto context = std::make_unique<DeviceContext>(device);
+    MultiDeviceRender pieces({context.get()}, scene, bvh, s);
+    int stopAfter = 3;
+    pieces.run(IterationSchedule{0, 1, 7}, 0, [&] { return pieces.iterations() >= stopAfter; }, nullptr);
+    EXPECT_EQ(pieces.iterations(), 3);
+    pieces.run(IterationSchedule{0, 1, 7}, 0, [] { return false; }, nullptr);
+    EXPECT_EQ(pieces.iterations(), 7);
+    EXPECT_LT(compareImages(pieces.image(), renderOn({device}, scene, Algorithm::PathTracing, 7, 5).image).relMse,
+              1e-12);
+}
+
+// An abandoned iteration leaves the image of the iterations before it.
+TEST(MultiDevice, AbandonedIterationLeavesTheImageBeforeIt)
+{
+    Scene scene = loadGltf(test::cornellBoxPath());
+    DeviceInfo device = test::devicesUnderTest()[0];
+    RenderSettings s;
+    s.algorithm = Algorithm::VertexConnectionMerging;
+    s.width = s.height = 32;
+    s.seed = 5;
+    s.wavefront = 512; // several rounds per phase
+    Bvh bvh = buildBvh(scene.vertices);
+    auto context = std::make_unique<DeviceContext>(device);
+    MultiDeviceRender render({context.get()}, scene, bvh, s);
+    int rounds = 0;
+    bool abandoning = false;
+    render.run(IterationSchedule{0, 1, 2}, 0, [] { return false; }, nullptr);
+    render.run(IterationSchedule{0, 1, 3}, 0, [] { return false; }, nullptr, [&] {
+        ++rounds;
+        return abandoning = rounds >= 3;
+    });
+    EXPECT_TRUE(abandoning);
+    EXPECT_EQ(render.iterations(), 2);
+    Result two = renderOn({device}, scene, Algorithm::VertexConnectionMerging, 2, 5);
+    EXPECT_EQ(compareImages(render.image(), two.image).relMse, 0.0);
+    // And the renderer goes on as if it had not begun it.
+    render.run(IterationSchedule{0, 1, 3}, 0, [] { return false; }, nullptr);
+    Result three = renderOn({device}, scene, Algorithm::VertexConnectionMerging, 3, 5);
+    EXPECT_LT(compareImages(render.image(), three.image).relMse, 1e-12);
 }
 
 } // namespace

@@ -1,5 +1,6 @@
 #include "../Error.h"
 #include "../bvh/Bvh.h"
+#include "../cluster/Cluster.h"
 #include "../image/TechniqueImages.h"
 #include "../render/MultiDeviceRender.h"
 #include "../render/Renderer.h"
@@ -19,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -150,8 +152,68 @@ private:
     struct sigaction savedInt_ {}, savedTerm_ {};
 };
 
+// What the ranks of a job rendered together (a lone process is a job of
+// one rank): images summed over the ranks by iteration count, in double, on
+// rank 0; the counts on every rank.
+struct JobResult {
+    Image image;
+    std::array<Image, 3> techniques; // RenderSettings::techniques
+    int iterations = 0;
+    uint64_t nonFinite = 0, rays = 0;
+};
+
+// Collective: every rank calls it at the same point.
+static JobResult gatherJob(MultiDeviceRender& render, const RenderSettings& settings)
+{
+    const int local = render.iterations();
+    std::vector<Image> images{render.image()};
+    if (settings.techniques) {
+        std::array<Image, 3> families = render.techniqueImages();
+        images.insert(images.end(), families.begin(), families.end());
+    }
+    const size_t pixels = size_t(settings.width) * size_t(settings.height) * 3;
+    // Each rank's images are means of its own iterations: sum mean × count,
+    // and the counts, in one reduction; counts below 2^53 are exact in double.
+    std::vector<double> sums(images.size() * pixels + 3, 0.0);
+    for (size_t k = 0; k < images.size(); ++k)
+        if (images[k].rgb.size() == pixels)
+            for (size_t i = 0; i < pixels; ++i) sums[k * pixels + i] = double(images[k].rgb[i]) * local;
+    sums[images.size() * pixels] = local;
+    sums[images.size() * pixels + 1] = double(render.nonFiniteCount());
+    sums[images.size() * pixels + 2] = double(render.raysTraced());
+    cluster::sumOnRoot(sums);
+
+    JobResult job;
+    job.iterations = int(sums[images.size() * pixels]);
+    job.nonFinite = uint64_t(sums[images.size() * pixels + 1]);
+    job.rays = uint64_t(sums[images.size() * pixels + 2]);
+    if (cluster::rank() != 0 || job.iterations == 0) return job;
+    auto mean = [&](size_t k) {
+        Image out(settings.width, settings.height);
+        for (size_t i = 0; i < pixels; ++i) out.rgb[i] = float(sums[k * pixels + i] / job.iterations);
+        return out;
+    };
+    job.image = mean(0);
+    if (settings.techniques)
+        for (size_t k = 0; k < 3; ++k)
+            if (images[k + 1].rgb.size() == pixels) job.techniques[k] = mean(k + 1);
+    return job;
+}
+
+static void writeOutputs(const RenderOptions& o, const RenderSettings& settings, const JobResult& job)
+{
+    writeImage(o.output, job.image);
+    if (settings.techniques) {
+        fs::path stem = fs::path(o.output).parent_path() / fs::path(o.output).stem();
+        writeTechniqueImages(stem.string(), job.techniques);
+    }
+}
+
 int runRender(const RenderOptions& o)
 {
+    const int rank = cluster::rank(), ranks = cluster::size();
+    const bool root = rank == 0;
+    const bool quiet = o.quiet || !root; // the other ranks print errors only
     validateRenderOptions(o);
     parseAlgorithm(o.algorithm); // before anything else, as the other options
     // Check the output's format before the render, not after it.
@@ -159,8 +221,12 @@ int runRender(const RenderOptions& o)
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".exr" && ext != ".hdr" && ext != ".pfm" && ext != ".png" && ext != ".jpg" && ext != ".jpeg")
         throw Error(o.output + ": unsupported output format (use .exr, .hdr, .pfm, .png or .jpg)");
-    checkWritable(o.output);
-    if (!o.statsFile.empty()) checkWritable(o.statsFile);
+    if (ranks > 1 && !o.errorLog.empty())
+        throw Error("--error-log needs a single process, not an MPI job of " + std::to_string(ranks) + " ranks");
+    if (root) { // rank 0 writes every file; the others none
+        checkWritable(o.output);
+        if (!o.statsFile.empty()) checkWritable(o.statsFile);
+    }
     catchInterrupts();
 
     auto setupStart = std::chrono::steady_clock::now();
@@ -188,62 +254,114 @@ int runRender(const RenderOptions& o)
     }
     MultiDeviceRender render(devices, scene, bvh, settings);
     double setupSeconds = since(setupStart);
-    for (size_t i = 0; i < render.deviceCount() && !o.quiet; ++i)
+    for (size_t i = 0; i < render.deviceCount() && !quiet; ++i)
         std::fprintf(stderr, "wavevcm: %s, %zu triangles, %dx%d, %s on %s (%s); setup %.2f s (kernels %.2f s%s)\n",
                      scenePath.c_str(), scene.triangleCount(), settings.width, settings.height, o.algorithm.c_str(),
                      chosen[i].name.c_str(), chosen[i].platformName.c_str(), setupSeconds,
                      render.renderer(i).programBuild().seconds,
                      render.renderer(i).programBuild().fromCache ? ", cached" : "");
+    if (ranks > 1 && !quiet)
+        std::fprintf(stderr, "wavevcm: MPI job of %d ranks; rank 0 on %s writes the outputs\n", ranks,
+                     cluster::hostName().c_str());
 
-    int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
-    ProgressBar progress(!o.quiet && ::isatty(STDERR_FILENO), spp, o.seconds);
+    // The job's iterations: -n counts them all, whichever rank renders them;
+    // rank r takes the global indices r, r + K, r + 2K, … (so the random
+    // numbers and merge radii are those of one process rendering them all).
+    // -t is the job's budget: every rank renders until it is spent, from the
+    // moment all of them are ready.
+    const int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
+    const IterationSchedule schedule{rank, ranks, spp};
+    ProgressBar progress(!quiet && ::isatty(STDERR_FILENO), spp, o.seconds);
+    std::vector<int> iterationsByRank(size_t(ranks), 0);
     // Render time excludes the error log's work (reading the image back and
     // comparing it), so the log's times are what the render alone took.
-    render.run(spp, o.seconds, [] { return interruptSignal != 0; },
-               [&](Renderer& renderer, int iterations, double seconds) {
-                   if (errorLog) errorLog->add(seconds, iterations, renderer.image());
-                   progress.update(iterations, seconds, double(settings.width) * settings.height);
-               });
-    const double renderSeconds = render.seconds();
+    auto iterationDone = [&](Renderer& renderer, int iterations, double seconds) {
+        if (errorLog) errorLog->add(seconds, iterations, renderer.image());
+        cluster::reportProgress(iterations);
+        if (!root) return;
+        cluster::readProgress(iterationsByRank);
+        iterationsByRank[0] = iterations;
+        int job = 0;
+        for (int n : iterationsByRank) job += n;
+        progress.update(job, seconds, double(settings.width) * settings.height);
+    };
+    // Before each iteration: this process interrupted (then the other ranks
+    // are told), or another rank was.
+    auto stop = [] {
+        if (interruptSignal != 0) cluster::requestStop();
+        return interruptSignal != 0 || cluster::stopRequested();
+    };
+    cluster::barrier();
+    const auto jobStart = std::chrono::steady_clock::now();
+    // In pieces between checkpoints; after each, the ranks agree whether the
+    // job is over: when all have rendered their share or spent the budget,
+    // or one was interrupted (mpirun signals every rank).
+    JobResult job;
+    bool interrupted = false;
+    for (int checkpoint = 1;; ++checkpoint) {
+        double until = o.seconds;
+        if (o.checkpoint > 0 && (until == 0 || checkpoint * o.checkpoint < until)) until = checkpoint * o.checkpoint;
+        double budget = until > 0 ? std::max(until - since(jobStart), 1e-9) : 0.0;
+        // In a job, an interrupt drops the iterations in flight: mpirun sends
+        // SIGTERM to every rank and SIGKILL a second later
+        // (odls_base_sigkill_timeout), too soon to finish a large iteration.
+        render.run(schedule, budget, stop, iterationDone, ranks > 1 ? std::function<bool()>(stop) : nullptr);
+        bool finished = (schedule.count() >= 0 && render.iterations() >= schedule.count()) ||
+                        (o.seconds > 0 && since(jobStart) >= o.seconds);
+        interrupted = cluster::anyRank(stop());
+        bool over = interrupted || !cluster::anyRank(!finished);
+        job = gatherJob(render, settings);
+        if (over) break;
+        if (root && job.iterations > 0) {
+            WritingFiles writing;
+            writeOutputs(o, settings, job);
+            if (!quiet)
+                std::fprintf(stderr, "%swavevcm: checkpoint after %.1f s: %d iterations -> %s\n",
+                             ::isatty(STDERR_FILENO) ? "\n" : "", since(jobStart), job.iterations, o.output.c_str());
+        }
+    }
+    const double renderSeconds = cluster::maxOverRanks(render.seconds());
+    const std::vector<int> rankIterations = cluster::gatherInts(render.iterations());
+    const std::vector<double> rankSeconds = cluster::gatherDoubles(render.seconds());
+    std::string deviceNames;
+    for (size_t i = 0; i < chosen.size(); ++i) deviceNames += (i ? "\n" : "") + chosen[i].name;
+    const std::vector<std::string> rankDevices = cluster::gatherStrings(deviceNames);
+    const std::vector<std::string> rankHosts = cluster::gatherStrings(cluster::hostName());
     progress.finish();
-    int exitCode = 0;
-    int signal = interruptSignal;
-    if (signal) {
-        exitCode = 128 + signal;
-        if (render.iterations() == 0) {
+    // Interrupted: 128 + the signal, on every rank (another rank's, if this
+    // one got none).
+    const int signal = interruptSignal != 0 ? int(interruptSignal) : SIGINT;
+    const int exitCode = interrupted ? 128 + signal : 0;
+    if (!root) return exitCode;
+    if (interrupted) {
+        if (job.iterations == 0) {
             std::fprintf(stderr, "wavevcm: interrupted (%s) before the first iteration: no image written\n",
-                         strsignal(signal));
+                         interruptSignal != 0 ? strsignal(signal) : "on another rank");
             return exitCode;
         }
         std::fprintf(stderr, "wavevcm: interrupted (%s): writing the %d iterations rendered so far\n",
-                     strsignal(signal), render.iterations());
+                     interruptSignal != 0 ? strsignal(signal) : "on another rank", job.iterations);
     }
     WritingFiles writing;
-
-    Image image = render.image();
-    uint64_t nonFinite = render.nonFiniteCount();
-    writeImage(o.output, image);
-    if (settings.techniques) {
-        fs::path stem = fs::path(o.output).parent_path() / fs::path(o.output).stem();
-        writeTechniqueImages(stem.string(), render.techniqueImages());
-    }
-    double samplesPerSecond = double(settings.width) * settings.height * render.iterations() / renderSeconds;
-    double raysPerSecond = double(render.raysTraced()) / renderSeconds;
-    if (!o.quiet)
+    writeOutputs(o, settings, job);
+    double samplesPerSecond = double(settings.width) * settings.height * job.iterations / renderSeconds;
+    double raysPerSecond = double(job.rays) / renderSeconds;
+    if (!quiet)
         std::fprintf(stderr, "wavevcm: %d iterations in %.2f s (%.3g samples/s, %.3g rays/s) -> %s\n",
-                     render.iterations(), renderSeconds, samplesPerSecond, raysPerSecond, o.output.c_str());
+                     job.iterations, renderSeconds, samplesPerSecond, raysPerSecond, o.output.c_str());
     for (size_t i = 0; i < render.deviceCount() && o.profile; ++i) {
         const Renderer& renderer = render.renderer(i);
         double total = 0;
         for (const auto& [name, stats] : renderer.kernelStats()) total += stats.seconds;
-        if (render.deviceCount() > 1) std::fprintf(stderr, "wavevcm: on %s:\n", chosen[i].name.c_str());
+        if (render.deviceCount() > 1 || ranks > 1)
+            std::fprintf(stderr, "wavevcm: on %s%s:\n", chosen[i].name.c_str(), ranks > 1 ? " (rank 0)" : "");
         for (const auto& [name, stats] : renderer.kernelStats())
             std::fprintf(stderr, "wavevcm: kernel %-20s %8.3f s  %5.1f %%  %10.3g items/s\n", name.c_str(),
                          stats.seconds, 100 * stats.seconds / total, double(stats.items) / stats.seconds);
     }
-    if (nonFinite > 0)
+    if (job.nonFinite > 0)
         std::fprintf(stderr, "wavevcm: warning: %llu samples were NaN or Inf and were dropped\n",
-                     static_cast<unsigned long long>(nonFinite));
+                     static_cast<unsigned long long>(job.nonFinite));
 
     if (!o.statsFile.empty()) {
         nlohmann::json stats = {
@@ -253,12 +371,12 @@ int runRender(const RenderOptions& o)
             {"algorithm", o.algorithm},
             {"width", settings.width},
             {"height", settings.height},
-            {"iterations", render.iterations()},
+            {"iterations", job.iterations},
             {"render_seconds", renderSeconds},
             {"setup_seconds", setupSeconds},
             {"samples_per_second", samplesPerSecond},
             {"rays_per_second", raysPerSecond},
-            {"nan_count", nonFinite},
+            {"nan_count", job.nonFinite},
             {"triangles", scene.triangleCount()},
             {"bvh_nodes", bvh.nodes.size()},
             {"bvh_depth", bvh.depth},
@@ -271,8 +389,9 @@ int runRender(const RenderOptions& o)
             {"merge_radius", render.renderer(0).mergeRadius()},
             {"scene_origin", {scene.origin[0], scene.origin[1], scene.origin[2]}},
             {"device_bytes", render.renderer(0).deviceBytes()},
+            {"ranks", ranks},
         };
-        // Each device's share (several with -d 0,2 or -d all).
+        // Each device's share (several with -d 0,2 or -d all), of this process (rank 0).
         stats["devices"] = nlohmann::json::array();
         for (size_t i = 0; i < render.deviceCount(); ++i)
             stats["devices"].push_back(
@@ -281,6 +400,21 @@ int runRender(const RenderOptions& o)
                  {"iterations", render.renderer(i).iterations()},
                  {"samples_per_second",
                   double(settings.width) * settings.height * render.renderer(i).iterations() / renderSeconds}});
+        // Each rank's share of the job (one entry without mpirun).
+        stats["rank_stats"] = nlohmann::json::array();
+        for (int r = 0; r < ranks; ++r) {
+            nlohmann::json names = nlohmann::json::array();
+            std::stringstream list(rankDevices[size_t(r)]);
+            for (std::string name; std::getline(list, name);) names.push_back(name);
+            stats["rank_stats"].push_back(
+                {{"rank", r},
+                 {"host", rankHosts[size_t(r)]},
+                 {"devices", names},
+                 {"iterations", rankIterations[size_t(r)]},
+                 {"render_seconds", rankSeconds[size_t(r)]},
+                 {"samples_per_second", double(settings.width) * settings.height * rankIterations[size_t(r)] /
+                                            std::max(rankSeconds[size_t(r)], 1e-9)}});
+        }
         // Device memory per texture (one float4 per texel).
         size_t textureBytes = 0;
         stats["textures"] = nlohmann::json::array();

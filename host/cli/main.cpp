@@ -2,6 +2,7 @@
 // the subcommands; every wv::Error ends here as one message on stderr.
 #include "../Error.h"
 #include "../cl/OpenCL.h"
+#include "../cluster/Cluster.h"
 #include "Commands.h"
 
 #include <CLI/CLI.hpp>
@@ -41,7 +42,35 @@ static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severa
         ->capture_default_str();
 }
 
+static int run(int argc, char** argv, bool* failed);
+
+// An MPI job (mpirun, host/cluster): an error on one rank is printed with the
+// rank's name and ends every rank at once, so that none waits for it.
 int main(int argc, char** argv)
+{
+    int exitCode = 0;
+    try {
+        wv::cluster::init(&argc, &argv);
+    } catch (const wv::Error& e) {
+        std::cerr << "wavevcm: error: " << e.what() << "\n";
+        return e.exitCode();
+    }
+    bool failed = false; // an error, not an interrupted render (which every rank finishes in step)
+    exitCode = run(argc, argv, &failed);
+    if (failed) wv::cluster::abortJob(exitCode);
+    wv::cluster::finalize();
+    return exitCode;
+}
+
+// The error message's prefix: which rank of an MPI job it comes from.
+static std::string who()
+{
+    if (wv::cluster::size() == 1) return "wavevcm: ";
+    return "wavevcm: rank " + std::to_string(wv::cluster::rank()) + " of " + std::to_string(wv::cluster::size()) +
+           " (" + wv::cluster::hostName() + "): ";
+}
+
+static int run(int argc, char** argv, bool* failed)
 {
     CLI::App app{"wavevcm: vertex connection and merging, and the techniques it unifies, on any OpenCL device"};
     app.require_subcommand(1);
@@ -56,6 +85,9 @@ int main(int argc, char** argv)
     render->add_option("-t,--time", r.seconds, "wall-clock budget in seconds: whole iterations until it is spent");
     addSceneOptions(render, r, true);
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
+    render->add_option("--checkpoint", r.checkpoint,
+                       "write the image rendered so far every SECONDS (with mpirun: the whole job's, by rank 0)")
+        ->check(CLI::PositiveNumber);
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
     render->add_flag("--profile", r.profile, "print the device time spent in each kernel");
     render->add_option("--reference", r.reference, "reference image for --error-log (same resolution)");
@@ -92,13 +124,21 @@ int main(int argc, char** argv)
     compare->add_option("reference", reference, "reference image")->required();
     compare->add_option("--max-relmse", maxRelMse, "exit with status 1 if relMSE exceeds this");
 
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        int code = app.exit(e);
+        *failed = code != 0;
+        return code;
+    }
     r.sppGiven = render->count("--spp") > 0;
     r.secondsGiven = render->count("--time") > 0;
 
     try {
         if (render->parsed()) return wv::runRender(r);
         if (report->parsed()) {
+            if (wv::cluster::size() > 1)
+                throw wv::Error("report runs in one process: start it without mpirun (render takes several ranks)");
             if (!algorithms.empty()) {
                 rep.algorithms.clear();
                 std::stringstream list(algorithms);
@@ -107,16 +147,19 @@ int main(int argc, char** argv)
             wv::writeReport(rep);
             return 0;
         }
-        if (compare->parsed()) return wv::runCompare(test, reference, maxRelMse);
+        if (compare->parsed()) return wv::runCompare(test, reference, maxRelMse); // exit 1 above the bound: no error
         return wv::runDevices();
     } catch (const wv::Error& e) {
-        std::cerr << "wavevcm: error: " << e.what() << "\n";
+        std::cerr << who() << "error: " << e.what() << std::endl;
+        *failed = true;
         return e.exitCode();
     } catch (const cl::Error& e) {
-        std::cerr << "wavevcm: OpenCL error in " << e.what() << ": " << wv::clErrorName(e.err()) << "\n";
+        std::cerr << who() << "OpenCL error in " << e.what() << ": " << wv::clErrorName(e.err()) << std::endl;
+        *failed = true;
         return 1;
     } catch (const std::bad_alloc&) {
-        std::cerr << "wavevcm: error: out of host memory\n";
+        std::cerr << who() << "error: out of host memory" << std::endl;
+        *failed = true;
         return 1;
     }
 }

@@ -15,11 +15,15 @@ MultiDeviceRender::MultiDeviceRender(const std::vector<DeviceContext*>& devices,
     for (DeviceContext* d : devices) renderers_.push_back(std::make_unique<Renderer>(*d, scene, bvh, settings));
 }
 
-void MultiDeviceRender::run(int iterations, double seconds, const std::function<bool()>& stop,
-                            const IterationDone& done)
+void MultiDeviceRender::run(const IterationSchedule& schedule, double seconds, const std::function<bool()>& stop,
+                            const IterationDone& done, const std::function<bool()>& abandon)
 {
     using clock = std::chrono::steady_clock;
-    std::atomic<int> next{0}, finished{0};
+    // Every entry handed out is rendered (or the render fails, or it is
+    // abandoned, and the render ends): the entries done so far are the
+    // schedule's first iterations().
+    std::atomic<int> next{iterations()}, finished{iterations()};
+    const double before = seconds_;
     std::atomic<bool> failed{false};
     std::mutex callback;
     std::exception_ptr error;
@@ -34,15 +38,21 @@ void MultiDeviceRender::run(int iterations, double seconds, const std::function<
                     std::lock_guard<std::mutex> lock(callback);
                     if (failed || stop() || (seconds > 0 && renderSeconds() >= seconds)) return;
                 }
-                int index = next.fetch_add(1);
-                if (iterations > 0 && index >= iterations) return;
-                renderer.iterate(index);
+                int entry = next.fetch_add(1);
+                if (schedule.count() >= 0 && entry >= schedule.count()) return;
+                std::function<bool()> abandonIteration;
+                if (abandon)
+                    abandonIteration = [&] {
+                        std::lock_guard<std::mutex> lock(callback);
+                        return abandon();
+                    };
+                if (!renderer.iterate(schedule.first + entry * schedule.stride, abandonIteration)) return;
                 std::lock_guard<std::mutex> lock(callback);
                 int all = ++finished;
-                clock::time_point before = clock::now();
-                double now = renderSeconds();
+                clock::time_point callbackStart = clock::now();
+                double now = before + renderSeconds();
                 if (done) done(renderer, all, now);
-                excluded += std::chrono::duration<double>(clock::now() - before).count();
+                excluded += std::chrono::duration<double>(clock::now() - callbackStart).count();
             }
         } catch (...) {
             std::lock_guard<std::mutex> lock(callback);

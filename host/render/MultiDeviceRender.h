@@ -16,6 +16,15 @@
 
 namespace wv {
 
+// The global iteration indices one process renders: first, first + stride,
+// first + 2·stride, … below `end` (0: no end). A lone process renders 0, 1,
+// 2, …; rank r of an MPI job of K ranks r, r + K, r + 2K, … (host/cluster).
+struct IterationSchedule {
+    int first = 0, stride = 1, end = 0;
+    // How many indices the schedule has (-1: no end).
+    int count() const { return end <= 0 ? -1 : (end > first ? (end - first + stride - 1) / stride : 0); }
+};
+
 class MultiDeviceRender {
 public:
     MultiDeviceRender(const std::vector<DeviceContext*>& devices, const Scene& scene, const Bvh& bvh,
@@ -23,17 +32,22 @@ public:
 
     // After each iteration, on the thread of the device that ran it (calls
     // are serialized; their time is not render time): the renderer, and the
-    // iterations and render seconds of the whole render so far.
+    // iterations and render seconds of this MultiDeviceRender so far (all
+    // calls of run()).
     using IterationDone = std::function<void(Renderer&, int iterations, double seconds)>;
 
-    // Renders until `iterations` in all (0: no limit), `seconds` of render
-    // time (0: none) or `stop()`; whole iterations only, so the global
-    // indices done are 0 … iterations() − 1. An exception on any device ends
-    // the render on all of them and is rethrown here.
-    void run(int iterations, double seconds, const std::function<bool()>& stop, const IterationDone& done);
+    // Renders the schedule's next indices, one per iteration, until it has no
+    // more, `seconds` of render time in this call (0: no limit) or `stop()`;
+    // whole iterations only. A later call goes on where this one stopped, so
+    // the indices done are always the schedule's first iterations(). An
+    // exception on any device ends the render on all of them and is rethrown
+    // here. `abandon` (optional, asked like `stop`, but also between the
+    // rounds of an iteration) drops the iterations in flight unfinished.
+    void run(const IterationSchedule& schedule, double seconds, const std::function<bool()>& stop,
+             const IterationDone& done, const std::function<bool()>& abandon = nullptr);
 
     int iterations() const;
-    double seconds() const { return seconds_; } // render time of run()
+    double seconds() const { return seconds_; } // render time of every run() so far
     Image image();
     std::array<Image, 3> techniqueImages(); // RenderSettings::techniques
     uint64_t nonFiniteCount();

@@ -17,6 +17,8 @@ void validateRenderOptions(const RenderOptions& o)
     if (o.sppGiven && o.spp <= 0) throw Error("--spp must be positive");
     if (o.secondsGiven && !(o.seconds > 0 && std::isfinite(o.seconds)))
         throw Error("--time must be a positive number of seconds");
+    if (o.checkpoint < 0 || !std::isfinite(o.checkpoint))
+        throw Error("--checkpoint must be a positive number of seconds");
     if (o.width < 0 || o.height < 0 || o.width > 32768 || o.height > 32768)
         throw Error("--width and --height must be between 1 and 32768");
     if (o.maxPathLength < 1) throw Error("--max-path-length must be at least 1");

@@ -279,7 +279,7 @@ void Renderer::round(Phase& phase, int parity, size_t generated, size_t issued, 
 // over. Launching over the full capacity instead, with kernels returning past
 // their queue's size, cost more on PoCL than the ~70 µs synchronisation:
 // most rounds have few live paths.
-void Renderer::runPhase(Phase& phase, int firstSample, int count)
+bool Renderer::runPhase(Phase& phase, int firstSample, int count)
 {
     params_.cameraPaths = phase.cameraPaths ? 1 : 0;
     // Every slot starts free.
@@ -302,7 +302,9 @@ void Renderer::runPhase(Phase& phase, int firstSample, int count)
         rays = size_t(now[COUNTER_INDEX(QUEUE_RAYS(1 - parity))]);
         free = size_t(now[COUNTER_INDEX(QUEUE_FREE(1 - parity))]);
         rays_ += size_t(now[COUNTER_INDEX(QUEUE_SHADOW)]);
+        if (abandon_ && abandon_()) return false;
     }
+    return true;
 }
 
 // The bidirectional algorithms' iteration: light paths go in batches of
@@ -313,9 +315,9 @@ void Renderer::runPhase(Phase& phase, int firstSample, int count)
 // in any batch): so N_light, and η_VCM = π r² N_light with it, is the same
 // for every camera path, as the weights of light tracing's splats, which land
 // on any pixel, need. Each light path splats once: those below `splatted`
-// have. False when the batch had to shrink after camera paths were shaded
+// have. Restart when the batch had to shrink after camera paths were shaded
 // with the larger one's η: the iteration starts again.
-bool Renderer::renderBatches()
+Renderer::Batches Renderer::renderBatches()
 {
     bool splats = settings_.algorithm == Algorithm::LightTracing || useVC_;
     int splatted = splats ? 0 : pixels_;
@@ -335,7 +337,7 @@ bool Renderer::renderBatches()
             device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_TRUE,
                                              size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int),
                                              sizeof zero, &zero);
-            runPhase(lightPhase_, lightFirst, lightCount);
+            if (!runPhase(lightPhase_, lightFirst, lightCount)) return Batches::Abandoned;
             splatted = std::max(splatted, lightFirst + lightCount);
             size_t wanted = params_.storeVertices ? size_t(lightVertexCount()) : 0;
             if (wanted <= vertexCapacity_) break;
@@ -346,36 +348,50 @@ bool Renderer::renderBatches()
             if (lightCount == 1)
                 throw Error("the light vertices of a single light path do not fit on " + device_.info.name);
             batch_ = lightCount / 2;
-            if (first > 0) return false;
+            if (first > 0) return Batches::Restart;
             placeBatch();
         }
         if (useVM_) buildHashGrid();
-        runPhase(cameraPhase_, first, count);
+        if (!runPhase(cameraPhase_, first, count)) return Batches::Abandoned;
         first += count;
     }
-    return true;
+    return Batches::Done;
 }
 
-void Renderer::iterate(int index)
+bool Renderer::iterate(int index, const std::function<bool()>& abandon)
 {
     index_ = index;
     params_.iteration = uint32_t(index);
     params_.accumulated = iteration_;
+    abandon_ = abandon;
+    // This iteration's contributions so far, before accumulate folds them in.
+    auto clearRadiance = [&] {
+        size_t bytes = size_t(pixels_) * 16;
+        for (cl::Buffer* b : {&buffers_.pixelRadiance, &buffers_.connectionRadiance, &buffers_.mergingRadiance,
+                              &buffers_.splatRadiance})
+            device_.queue.enqueueFillBuffer(*b, 0.0f, 0, bytes);
+    };
+    Batches done = Batches::Done;
     if (!bidirectional_) {
-        runPhase(cameraPhase_, 0, pixels_);
+        done = runPhase(cameraPhase_, 0, pixels_) ? Batches::Done : Batches::Abandoned;
     } else {
-        while (!renderBatches()) {
+        while ((done = renderBatches()) == Batches::Restart) {
             ++restartedIterations_;
-            size_t bytes = size_t(pixels_) * 16;
-            for (cl::Buffer* b : {&buffers_.pixelRadiance, &buffers_.connectionRadiance, &buffers_.mergingRadiance,
-                                  &buffers_.splatRadiance})
-                device_.queue.enqueueFillBuffer(*b, 0.0f, 0, bytes);
+            clearRadiance();
         }
+    }
+    abandon_ = nullptr;
+    if (done == Batches::Abandoned) {
+        clearRadiance(); // the running means keep the iterations before it
+        device_.queue.finish();
+        if (profiling_) collectProfile();
+        return false;
     }
     launch(accumulate_, size_t(pixels_));
     device_.queue.finish();
     if (profiling_) collectProfile();
     ++iteration_;
+    return true;
 }
 
 void Renderer::collectProfile()

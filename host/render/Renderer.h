@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 
@@ -48,7 +49,10 @@ public:
     // image. `index` is its global index, 0, 1, 2, ...: its random numbers
     // and merge radius depend on it alone (MultiDeviceRender gives devices
     // different ones); without it, the next after this renderer's last.
-    void iterate(int index);
+    // `abandon`, if given, is asked after every round: when it says so, the
+    // iteration is dropped unfinished (image() stays that of the iterations
+    // before it) and iterate returns false.
+    bool iterate(int index, const std::function<bool()>& abandon = nullptr);
     void iterate() { iterate(iteration_); }
 
     int iterations() const { return iteration_; } // iterations folded into image()
@@ -99,12 +103,15 @@ private:
     cl::Kernel kernel(const char* name);
     void bindAll();
     void launch(cl::Kernel& kernel, size_t items);
-    void runPhase(Phase& phase, int firstSample, int count);
+    std::function<bool()> abandon_; // iterate()'s, asked after every round
+    // False if abandon_ said to stop.
+    bool runPhase(Phase& phase, int firstSample, int count);
     void round(Phase& phase, int parity, size_t generated, size_t issued, size_t rays);
     int lightVertexCount();
     void ensureLightVertexCapacity(size_t vertices);
     void setBatchConstants(int lightPaths);
-    bool renderBatches();
+    enum class Batches { Done, Restart, Abandoned };
+    Batches renderBatches();
     void buildHashGrid();
     void collectProfile();
 
