@@ -153,7 +153,9 @@ TEST(MultiDevice, AbandonedIterationLeavesTheImageBeforeIt)
     EXPECT_TRUE(abandoning);
     EXPECT_EQ(render.iterations(), 2);
     Result two = renderOn({device}, scene, Algorithm::VertexConnectionMerging, 2, 5);
-    EXPECT_EQ(compareImages(render.image(), two.image).relMse, 0.0);
+    // vcm's splats add in thread order: equal up to float rounding (an
+    // iteration folded in, or a partial one, would be noise, ~1e-2).
+    EXPECT_LT(compareImages(render.image(), two.image).relMse, 1e-12);
     // And the renderer goes on as if it had not begun it.
     render.run(IterationSchedule{0, 1, 3}, 0, [] { return false; }, nullptr);
     Result three = renderOn({device}, scene, Algorithm::VertexConnectionMerging, 3, 5);
