@@ -2,6 +2,7 @@
 
 #include "../Error.h"
 #include "DracoMesh.h"
+#include "Tangents.h"
 
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
@@ -58,67 +59,6 @@ Vec3 transformNormal(const Mat4& m, Vec3 n)
     float det = dot(c0, r0);
     Vec3 out = r0 * n.x + r1 * n.y + r2 * n.z;
     return det < 0 ? -out : out;
-}
-
-// Tangents of an indexed triangle list for its normal map, per triangle
-// corner (4 floats for corner c of indices): x, y, z along +u and the
-// handedness w = ±1 such that cross(normal, tangent)·w points along −v,
-// which is "up" in the texture image, the +Y of glTF's normal textures. Each
-// vertex sums the unit ∂p/∂u and −∂p/∂v of its triangles weighted by their
-// angles at it, separately for the triangles whose UVs wind one way and the
-// other, as MikkTSpace (which the glTF specification recommends) does: at a
-// mirror seam the two sides keep their own frames instead of cancelling. It
-// is not MikkTSpace to the bit (which also welds equal vertices stored
-// twice and treats degenerate triangles its own way). A corner without
-// usable texture coordinates gets some direction perpendicular to its
-// normal. `normals` may be empty: the triangles' normals are summed instead.
-std::vector<float> generateTangents(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
-                                    const std::vector<float>& uvs, const std::vector<uint32_t>& indices)
-{
-    size_t n = positions.size();
-    // [2 v + side]: the sums of vertex v over the triangles of UV winding `side` (0: counter-clockwise).
-    std::vector<Vec3> alongU(2 * n, Vec3(0, 0, 0)), upV(2 * n, Vec3(0, 0, 0)), faceNormals(n, Vec3(0, 0, 0));
-    std::vector<int> cornerSide(indices.size(), -1);
-    for (size_t i = 0; i + 2 < indices.size(); i += 3) {
-        uint32_t v[3] = {indices[i], indices[i + 1], indices[i + 2]};
-        Vec3 e1 = positions[v[1]] - positions[v[0]], e2 = positions[v[2]] - positions[v[0]];
-        Vec3 area2 = cross(e1, e2);
-        for (uint32_t x : v) faceNormals[x] = faceNormals[x] + area2;
-        if (uvs.empty()) continue;
-        float du1 = uvs[2 * v[1]] - uvs[2 * v[0]], dv1 = uvs[2 * v[1] + 1] - uvs[2 * v[0] + 1];
-        float du2 = uvs[2 * v[2]] - uvs[2 * v[0]], dv2 = uvs[2 * v[2] + 1] - uvs[2 * v[0] + 1];
-        float det = du1 * dv2 - du2 * dv1;
-        // e1 = du1 ∂p/∂u + dv1 ∂p/∂v, e2 likewise: solved for the two derivatives.
-        Vec3 dpdu = (e1 * dv2 - e2 * dv1) * (1.0f / det), dpdv = (e2 * du1 - e1 * du2) * (1.0f / det);
-        float lu = length(dpdu), lv = length(dpdv);
-        if (det == 0.0f || !(lu > 0.0f) || !(lv > 0.0f) || !std::isfinite(lu * lv)) continue;
-        int side = det < 0.0f ? 1 : 0;
-        for (int k = 0; k < 3; ++k) {
-            Vec3 a = positions[v[(k + 1) % 3]] - positions[v[k]], b = positions[v[(k + 2) % 3]] - positions[v[k]];
-            float la = length(a), lb = length(b);
-            float angle = la > 0 && lb > 0 ? std::acos(std::max(-1.0f, std::min(1.0f, dot(a, b) / (la * lb)))) : 0.0f;
-            alongU[2 * v[k] + side] = alongU[2 * v[k] + side] + dpdu * (angle / lu);
-            upV[2 * v[k] + side] = upV[2 * v[k] + side] - dpdv * (angle / lv);
-            cornerSide[i + k] = side;
-        }
-    }
-    std::vector<float> out(4 * indices.size());
-    for (size_t c = 0; c < indices.size(); ++c) {
-        uint32_t v = indices[c];
-        int side = cornerSide[c] >= 0 ? cornerSide[c] : (length(alongU[2 * v]) > 0 ? 0 : 1);
-        Vec3 normal = normals.empty() ? faceNormals[v] : normals[v];
-        Vec3 u = alongU[2 * v + side];
-        Vec3 t = u - normal * (dot(u, normal) / std::max(dot(normal, normal), 1e-30f));
-        if (!(length(t) > 1e-12f) || !isFinite(t)) // any perpendicular
-            t = cross(std::fabs(normal.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0), normal);
-        float len = length(t);
-        t = len > 0.0f ? t * (1.0f / len) : Vec3(1, 0, 0);
-        out[4 * c] = t.x;
-        out[4 * c + 1] = t.y;
-        out[4 * c + 2] = t.z;
-        out[4 * c + 3] = dot(cross(normal, t), upV[2 * v + side]) < 0.0f ? -1.0f : 1.0f;
-    }
-    return out;
 }
 
 double determinant3(const Mat4& m)
@@ -1008,7 +948,7 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
                 for (size_t c = 0; c < indices.size(); ++c)
                     std::copy_n(&perVertex[4 * size_t(indices[c])], 4, &tangents[4 * c]);
             } else {
-                tangents = generateTangents(positions, normals,
+                tangents = mikkTSpaceTangents(positions, normals,
                                             uvSets[scene_.textures[size_t(used.normalTexture) - 1].texCoord], indices);
             }
         }
