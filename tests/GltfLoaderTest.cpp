@@ -1376,6 +1376,43 @@ TEST_F(GltfLoader, GeneratedTangentsAreMikkTSpace)
     EXPECT_EQ(undefined, 3u) << "corners where MikkTSpace's tangent is undefined";
 }
 
+// A flat disc of 2,000 triangles around one centre vertex, UVs planar
+// (u = x, v = −y): every tangent is +x with handedness +1 (within 1e-4: the
+// rim's thin triangles lose digits to cancellation), the centre's too, whose
+// group of 2,000 triangles takes the large-group path (host/scene/Tangents.cpp).
+TEST_F(GltfLoader, LargeFanGetsThePlanarTangent)
+{
+    Image texture(1, 1);
+    texture.rgb = {0.5f, 0.5f, 1.0f};
+    writeImage((dir_ / "flat.png").string(), texture);
+    const int n = 2000;
+    std::vector<Vec3> p = {{0, 0, 0}};
+    std::vector<float> uv = {0, 0};
+    std::vector<uint32_t> fan;
+    for (int i = 0; i < n; ++i) {
+        float a = 2.0f * float(M_PI) * float(i) / float(n);
+        p.push_back({std::cos(a), std::sin(a), 0});
+        uv.insert(uv.end(), {std::cos(a), -std::sin(a)});
+        fan.insert(fan.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % n)});
+    }
+    GltfBuilder b;
+    int pos = b.addVec3s(p);
+    int tex = b.addAccessor(b.addView(uv.data(), uv.size() * 4), kFloat, "VEC2", int(p.size()));
+    int idx = b.addIndices<uint32_t>(fan);
+    b.j["images"] = {{{"uri", "flat.png"}}};
+    b.j["textures"] = {{{"source", 0}}};
+    int material = b.addMaterial({{"normalTexture", {{"index", 0}}}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
+    json prim = primitive(pos, -1, idx, material);
+    prim["attributes"]["TEXCOORD_0"] = tex;
+    b.addNode({{"mesh", b.addMesh({prim})}});
+    Scene s = load(b, "fan");
+    ASSERT_EQ(s.tangents.size(), size_t(3 * n));
+    size_t wrong = 0;
+    for (const std::array<float, 4>& t : s.tangents)
+        wrong += !near(Vec3(t[0], t[1], t[2]), Vec3(1, 0, 0), 1e-4f) || t[3] != 1.0f;
+    EXPECT_EQ(wrong, 0u);
+}
+
 TEST_F(GltfLoader, Gltf1IsRefusedByName)
 {
     fs::path path = dir_ / "old.gltf";

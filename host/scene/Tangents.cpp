@@ -14,10 +14,11 @@
 //     by the triangle's angle at the vertex measured in that plane.
 // MikkTSpace's angular threshold is 180 degrees by default, so a group's
 // "subgroups" hold all of its triangles but those whose ∂p/∂s or ∂p/∂t point
-// exactly opposite; that rule is kept. The handedness is the group's
-// orientation. UVs enter as (u, −v): glTF's v runs down the image, and
-// MikkTSpace's bitangent points along its second coordinate, which then is
-// "up" as glTF's normal textures want.
+// exactly opposite; that rule is kept (but for groups of more than 64
+// triangles). The handedness is the group's orientation. UVs enter as
+// (u, −v): glTF's v runs down the image, and MikkTSpace's bitangent points
+// along its second coordinate, which then is "up" as glTF's normal textures
+// want.
 #include "Tangents.h"
 
 #include <algorithm>
@@ -58,6 +59,12 @@ struct Group {
     bool orientationPreserving;
     std::vector<int> triangles;
 };
+
+// Groups of more triangles than this (a vertex at the centre of a large
+// fan) skip the pairwise subgroup test, which costs the square of their size,
+// and sum all their triangles: the test only ever leaves out a triangle
+// whose ∂p/∂s or ∂p/∂t points exactly opposite another's.
+const size_t kLargeGroup = 64;
 
 // Some unit vector perpendicular to n (any, where n is zero).
 Vec3 anyPerpendicular(Vec3 n)
@@ -276,6 +283,15 @@ private:
             t[i] = normalizedIfNotZero(inPlane(tri.alongT, n));
         }
         std::vector<std::pair<std::vector<int>, Vec3>> subgroups;
+        if (m > kLargeGroup) { // one subgroup: see kLargeGroup
+            Vec3 shared = tangentOf(g.triangles, g.vertex);
+            for (int f : g.triangles) {
+                size_t c = 3 * size_t(f) + size_t(cornerAt(size_t(f), g.vertex));
+                tangent[c] = shared;
+                sign[c] = g.orientationPreserving ? 1.0f : -1.0f;
+            }
+            return;
+        }
         for (size_t i = 0; i < m; ++i) {
             int f = g.triangles[i];
             std::vector<int> members;
