@@ -240,6 +240,27 @@ protected:
 
     Scene load(GltfBuilder& b, const std::string& name = "scene") { return loadGltf(b.writeGltf(dir_, name)); }
 
+    // One primitive of the given triangles with TEXCOORD_0 `uv` and a flat
+    // normal map, so the loader gives its corners tangents, loaded.
+    template <class Index>
+    Scene loadNormalMapped(const std::vector<Vec3>& p, const std::vector<float>& uv, const std::vector<Index>& indices)
+    {
+        Image texture(1, 1);
+        texture.rgb = {0.5f, 0.5f, 1.0f};
+        writeImage((dir_ / "flat.png").string(), texture);
+        GltfBuilder b;
+        int pos = b.addVec3s(p);
+        int tex = b.addAccessor(b.addView(uv.data(), uv.size() * 4), kFloat, "VEC2", int(p.size()));
+        int idx = b.addIndices(indices);
+        b.j["images"] = {{{"uri", "flat.png"}}};
+        b.j["textures"] = {{{"source", 0}}};
+        int material = b.addMaterial({{"normalTexture", {{"index", 0}}}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
+        json prim = primitive(pos, -1, idx, material);
+        prim["attributes"]["TEXCOORD_0"] = tex;
+        b.addNode({{"mesh", b.addMesh({prim})}});
+        return load(b, "normal-mapped");
+    }
+
     // The Material the one triangle of oneTriangle() gets when its material is `material`.
     Material loadMaterial(const json& material)
     {
@@ -1300,22 +1321,9 @@ TEST_F(GltfLoader, EveryEncodingOfOneMeshRendersTheSameImage)
 // (handedness −1: its bitangent still points up the texture).
 TEST_F(GltfLoader, GeneratedTangentsKeepMirroredHalvesApart)
 {
-    Image texture(1, 1);
-    texture.rgb = {0.5f, 0.5f, 1.0f};
-    writeImage((dir_ / "flat.png").string(), texture);
-    GltfBuilder b;
     std::vector<Vec3> p = {{-1, 0, 0}, {0, 0, 0}, {1, 0, 0}, {-1, 1, 0}, {0, 1, 0}, {1, 1, 0}};
     std::vector<float> uv = {0, 1, 1, 1, 0, 1, 0, 0, 1, 0, 0, 0}; // v = 1 at the bottom row
-    int pos = b.addVec3s(p);
-    int tex = b.addAccessor(b.addView(uv.data(), uv.size() * 4), kFloat, "VEC2", 6);
-    int idx = b.addIndices<uint16_t>({0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4});
-    b.j["images"] = {{{"uri", "flat.png"}}};
-    b.j["textures"] = {{{"source", 0}}};
-    int material = b.addMaterial({{"normalTexture", {{"index", 0}}}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
-    json prim = primitive(pos, -1, idx, material);
-    prim["attributes"]["TEXCOORD_0"] = tex;
-    b.addNode({{"mesh", b.addMesh({prim})}});
-    Scene s = load(b, "mirrored");
+    Scene s = loadNormalMapped(p, uv, std::vector<uint16_t>{0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4});
     ASSERT_EQ(s.triangleCount(), 4u);
     ASSERT_EQ(s.tangents.size(), 12u);
     for (size_t c = 0; c < 12; ++c) {
@@ -1382,9 +1390,6 @@ TEST_F(GltfLoader, GeneratedTangentsAreMikkTSpace)
 // group of 2,000 triangles takes the large-group path (host/scene/Tangents.cpp).
 TEST_F(GltfLoader, LargeFanGetsThePlanarTangent)
 {
-    Image texture(1, 1);
-    texture.rgb = {0.5f, 0.5f, 1.0f};
-    writeImage((dir_ / "flat.png").string(), texture);
     const int n = 2000;
     std::vector<Vec3> p = {{0, 0, 0}};
     std::vector<float> uv = {0, 0};
@@ -1395,17 +1400,7 @@ TEST_F(GltfLoader, LargeFanGetsThePlanarTangent)
         uv.insert(uv.end(), {std::cos(a), -std::sin(a)});
         fan.insert(fan.end(), {0u, uint32_t(1 + i), uint32_t(1 + (i + 1) % n)});
     }
-    GltfBuilder b;
-    int pos = b.addVec3s(p);
-    int tex = b.addAccessor(b.addView(uv.data(), uv.size() * 4), kFloat, "VEC2", int(p.size()));
-    int idx = b.addIndices<uint32_t>(fan);
-    b.j["images"] = {{{"uri", "flat.png"}}};
-    b.j["textures"] = {{{"source", 0}}};
-    int material = b.addMaterial({{"normalTexture", {{"index", 0}}}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
-    json prim = primitive(pos, -1, idx, material);
-    prim["attributes"]["TEXCOORD_0"] = tex;
-    b.addNode({{"mesh", b.addMesh({prim})}});
-    Scene s = load(b, "fan");
+    Scene s = loadNormalMapped(p, uv, fan);
     ASSERT_EQ(s.tangents.size(), size_t(3 * n));
     size_t wrong = 0;
     for (const std::array<float, 4>& t : s.tangents)
