@@ -26,6 +26,7 @@ import zlib
 import bpy  # before bmesh, which it provides
 import bmesh  # noqa: E402
 
+
 def flat_normal_png():
     """A 1x1 RGB PNG of the flat normal (128, 128, 255)."""
     def chunk(kind, data):

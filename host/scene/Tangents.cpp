@@ -147,19 +147,18 @@ private:
             std::copy_n(indices.begin(), corners, sourceOf.begin());
         }
         // Equal vertices (bit for bit) become one: sorted by their bits.
-        auto bits = [&](uint32_t i) {
-            std::array<uint32_t, 8> b;
+        std::vector<std::array<uint32_t, 8>> bits(source.size());
+        for (size_t i = 0; i < source.size(); ++i) {
             const Vertex& v = source[i];
             float f[8] = {v.p.x, v.p.y, v.p.z, v.n.x, v.n.y, v.n.z, v.s, v.t};
-            std::memcpy(b.data(), f, sizeof f);
-            return b;
-        };
+            std::memcpy(bits[i].data(), f, sizeof f);
+        }
         std::vector<uint32_t> order(source.size());
         std::iota(order.begin(), order.end(), 0u);
-        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return bits(a) < bits(b); });
+        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return bits[a] < bits[b]; });
         std::vector<uint32_t> welded(source.size());
         for (size_t i = 0; i < order.size(); ++i) {
-            if (i == 0 || bits(order[i]) != bits(order[i - 1])) vertices_.push_back(source[order[i]]);
+            if (i == 0 || bits[order[i]] != bits[order[i - 1]]) vertices_.push_back(source[order[i]]);
             welded[order[i]] = uint32_t(vertices_.size() - 1);
         }
         corner_.resize(corners);
@@ -273,9 +272,19 @@ private:
     // Step 4 for every corner of group g.
     void evaluate(const Group& g, std::vector<Vec3>& tangent, std::vector<float>& sign) const
     {
+        float handedness = g.orientationPreserving ? 1.0f : -1.0f;
+        size_t m = g.triangles.size();
+        if (m > kLargeGroup) { // one subgroup: see kLargeGroup
+            Vec3 shared = tangentOf(g.triangles, g.vertex);
+            for (int f : g.triangles) {
+                size_t c = 3 * size_t(f) + size_t(cornerAt(size_t(f), g.vertex));
+                tangent[c] = shared;
+                sign[c] = handedness;
+            }
+            return;
+        }
         const float threshold = float(std::cos(double(float(M_PI)))); // 180 degrees, as the reference computes it
         Vec3 n = vertices_[g.vertex].n;
-        size_t m = g.triangles.size();
         std::vector<Vec3> s(m), t(m);
         for (size_t i = 0; i < m; ++i) {
             const Triangle& tri = triangles_[size_t(g.triangles[i])];
@@ -283,15 +292,6 @@ private:
             t[i] = normalizedIfNotZero(inPlane(tri.alongT, n));
         }
         std::vector<std::pair<std::vector<int>, Vec3>> subgroups;
-        if (m > kLargeGroup) { // one subgroup: see kLargeGroup
-            Vec3 shared = tangentOf(g.triangles, g.vertex);
-            for (int f : g.triangles) {
-                size_t c = 3 * size_t(f) + size_t(cornerAt(size_t(f), g.vertex));
-                tangent[c] = shared;
-                sign[c] = g.orientationPreserving ? 1.0f : -1.0f;
-            }
-            return;
-        }
         for (size_t i = 0; i < m; ++i) {
             int f = g.triangles[i];
             std::vector<int> members;
@@ -310,7 +310,7 @@ private:
             }
             size_t c = 3 * size_t(f) + size_t(cornerAt(size_t(f), g.vertex));
             tangent[c] = found->second;
-            sign[c] = g.orientationPreserving ? 1.0f : -1.0f;
+            sign[c] = handedness;
         }
     }
 
