@@ -131,14 +131,20 @@ TEST(HardCases, GlassOfIndexOneIsInvisible)
 // The camera sits inside a closed box of shared-edge triangles; an area
 // light, a point light and the background are outside. Every algorithm, on
 // every device, must render exactly black: one ray through an edge or a
-// vertex, or a light vertex connected through a wall, shows.
+// vertex, or a light vertex connected through a wall, shows. Merging runs
+// with a radius of 1e-5 of the scene's: a merge joins vertices up to r
+// apart, so a light vertex on a wall's outer face within r of an edge and a
+// camera vertex on the inner face of the other wall at that edge can meet
+// (density estimation's known leak: with the default radius 0.003, bpm at
+// seeds 17 and 67 of this render lights one pixel, and at 3e-4 none); no
+// leak through the geometry depends on r.
 TEST(HardCases, ClosedBoxLetsNoLightIn)
 {
     Scene scene = hardScene("closed-box");
     for (const DeviceInfo& device : test::devicesUnderTest())
         for (Algorithm a : kAlgorithms) {
             SCOPED_TRACE(algorithmName(a) + ", " + device.name);
-            test::Render r = test::render(device, scene, a, 32, 32, 4, 3);
+            test::Render r = test::render(device, scene, a, 32, 32, 4, 3, 10, 1e-5f);
             double sum = 0;
             for (float v : r.image.rgb) sum += v;
             EXPECT_EQ(sum, 0.0);
