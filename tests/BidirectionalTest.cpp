@@ -75,10 +75,12 @@ std::vector<bool> lightTracingMask(const Scene& scene, int width, int height)
 // where it can render (lightTracingMask). The path tracer is the reference
 // only where it is unbiased and not heavy-tailed: with a delta light (point,
 // directional) it cannot sample light reflected or refracted by a specular
-// surface onto a diffuse one (it misses the caustics), and with the small
-// bright light of `caustics` its caustics come as rare fireflies that 8
-// seeds do not estimate. There bpt is compared with lt, which samples those
-// paths well.
+// surface onto a diffuse one (it misses the caustics), and with the area
+// lights of `cornell-box` and `caustics` its caustics (light that a mirror
+// or glass sphere sends onto the walls) come as rare fireflies that 8 seeds
+// do not estimate: in a block they hit, most seeds see none and a few see
+// one, so the seed-to-seed spread says nothing about the mean's error. There
+// bpt is compared with lt, which samples those paths well.
 TEST(Bidirectional, ConvergesToOneImageOnEveryScene)
 {
     DeviceInfo device = test::devicesUnderTest()[0];
@@ -87,7 +89,7 @@ TEST(Bidirectional, ConvergesToOneImageOnEveryScene)
         const char* scene;
         bool ptIsReference;
     };
-    for (Case c : {Case{"cornell-box", true}, Case{"cornell-box-background", true}, Case{"cornell-box-point", false},
+    for (Case c : {Case{"cornell-box", false}, Case{"cornell-box-background", true}, Case{"cornell-box-point", false},
                    Case{"cornell-box-directional", false}, Case{"caustics", false}}) {
         SCOPED_TRACE(c.scene);
         Scene scene = loadGltf(std::string(WAVEVCM_SOURCE_DIR) + "/scenes/" + c.scene + ".gltf");

@@ -1,7 +1,13 @@
-/* Counter-based random numbers: Philox4x32-10 (Salmon et al., "Parallel random
- * numbers: as easy as 1, 2, 3", SC 2011). A draw is a pure function of
- * (seed, iteration, sample, bounce, dimension), so every device draws the same
- * numbers and images from different devices can be compared sample for sample. */
+/* Random numbers: each sample (a pixel's camera path, or a light path) draws
+ * 4-D blocks, each two 2-D pairs of an Owen-scrambled, shuffled Sobol
+ * sequence indexed by the iteration (Burley, "Practical Hash-based Owen
+ * Scrambling", JCGT 9(4), 2020), seeded by a hash of (seed, sample, bounce,
+ * block). A pixel's first 2^m iterations are then stratified in every 2-D
+ * pair (jitter, light sample, BSDF sample), which independent numbers are
+ * not, while different pairs, bounces, samples and seeds stay independent.
+ * A draw is a pure function of its arguments and integer arithmetic, so every
+ * device draws the same numbers and images from different devices (or MPI
+ * ranks) can be compared sample for sample. */
 #ifndef WAVEVCM_RNG_H
 #define WAVEVCM_RNG_H
 
@@ -14,46 +20,82 @@ typedef struct Uniform4 {
     float abiPad; /* see vec3 (core/vec3.h) */
 } Uniform4;
 
-/* The high 32 bits of a 32x32-bit product, written as one 64-bit multiply:
- * PoCL's mul_hi builds it from 16-bit partial products, several times the
- * instructions; x86 and PTX both have the 64-bit (or high-half) multiply. */
-INLINE uint mul_hi32(uint a, uint b) { return (uint)(((ulong)a * (ulong)b) >> 32); }
-
-/* Philox4x32-10 on four scalar words, in place: each round two 32x32->64
- * multiplies, mixed with the key, which then takes a Weyl step. Unrolled:
- * a loop inside the work-item would keep the work-items' loop from being
- * vectorized. */
-INLINE void philox4x32_10(uint* w0, uint* w1, uint* w2, uint* w3, uint k0, uint k1)
-{
-    const uint M0 = 0xD2511F53u, M1 = 0xCD9E8D57u;
-    uint c0 = *w0, c1 = *w1, c2 = *w2, c3 = *w3;
-#pragma unroll
-    for (int i = 0; i < 10; ++i) {
-        uint hi0 = mul_hi32(M0, c0), lo0 = M0 * c0;
-        uint hi1 = mul_hi32(M1, c2), lo1 = M1 * c2;
-        c0 = hi1 ^ c1 ^ k0;
-        c1 = lo1;
-        c2 = hi0 ^ c3 ^ k1;
-        c3 = lo0;
-        k0 += 0x9E3779B9u;
-        k1 += 0xBB67AE85u;
-    }
-    *w0 = c0;
-    *w1 = c1;
-    *w2 = c2;
-    *w3 = c3;
-}
-
 /* 24 high bits to a float in [0, 1): exact, never rounds up to 1. */
 INLINE float uint_to_unit_float(uint x) { return (float)(x >> 8) * 0x1.0p-24f; }
 
-/* Four uniform numbers for dimensions [4·block, 4·block + 4) of one sample at
- * one bounce. `sample` is the global sample index within the iteration. */
+INLINE uint reverse_bits32(uint x)
+{
+    x = (x << 16) | (x >> 16);
+    x = ((x & 0x00FF00FFu) << 8) | ((x >> 8) & 0x00FF00FFu);
+    x = ((x & 0x0F0F0F0Fu) << 4) | ((x >> 4) & 0x0F0F0F0Fu);
+    x = ((x & 0x33333333u) << 2) | ((x >> 2) & 0x33333333u);
+    return ((x & 0x55555555u) << 1) | ((x >> 1) & 0x55555555u);
+}
+
+/* Laine and Karras's hash (Burley 2020's constants): bit k of the result
+ * depends only on bits 0..k of x, so on bit-reversed digits it is a nested
+ * (Owen) scramble. */
+INLINE uint laine_karras(uint x, uint seed)
+{
+    x += seed;
+    x ^= x * 0x6C50B47Cu;
+    x ^= x * 0xB82F1E52u;
+    x ^= x * 0xC7AFE638u;
+    x ^= x * 0x8D22F6E6u;
+    return x;
+}
+
+/* A 32-bit integer hash (a multiply-xorshift finalizer). */
+INLINE uint hash32(uint x)
+{
+    x ^= x >> 16;
+    x *= 0x7FEB352Du;
+    x ^= x >> 15;
+    x *= 0x846CA68Bu;
+    x ^= x >> 16;
+    return x;
+}
+
+/* Sobol's second dimension, bit-reversed: digit a of the point is the XOR
+ * of the index bits b with C(b, a) odd, i.e. a ⊆ b (Lucas), a superset XOR
+ * over the five bits of a digit's position. */
+INLINE uint sobol1_reversed(uint j)
+{
+    j ^= (j >> 1) & 0x55555555u;
+    j ^= (j >> 2) & 0x33333333u;
+    j ^= (j >> 4) & 0x0F0F0F0Fu;
+    j ^= (j >> 8) & 0x00FF00FFu;
+    j ^= (j >> 16) & 0x0000FFFFu;
+    return j;
+}
+
+/* Point `reversedIndex` (bit-reversed) of a 2-D Owen-scrambled, shuffled
+ * Sobol sequence (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020):
+ * the index is shuffled by a nested scramble, which keeps every aligned run
+ * of 2^m indices an aligned run, then each coordinate is Owen-scrambled. Any
+ * 2^m consecutive points from 0 are then stratified in every elementary
+ * interval of area 2^-m; distinct seeds give decorrelated sequences. */
+INLINE void owen_sobol2(uint reversedIndex, uint seed, uint* x, uint* y)
+{
+    uint j = reverse_bits32(laine_karras(reversedIndex, seed));
+    *x = reverse_bits32(laine_karras(j, hash32(seed ^ 0x68E31DA4u)));
+    *y = reverse_bits32(laine_karras(sobol1_reversed(j), hash32(seed ^ 0xB5297A4Du)));
+}
+
+/* Four uniform numbers for dimensions [4·block, 4·block + 4) of one sample
+ * at one bounce; `sample` is the pixel (camera paths) or light path index,
+ * and the iteration is the index into that sample's sequence. Dimensions
+ * (y, z) and (x, w) are two 2-D stratified pairs: callers take a 2-D
+ * continuous sample from (y, z), a discrete choice from x and Russian
+ * roulette from w. */
 INLINE Uniform4 rng_uniform4(uint seed, uint iteration, uint sample, uint bounce, uint block)
 {
-    uint c0 = sample, c1 = iteration, c2 = bounce, c3 = block;
-    philox4x32_10(&c0, &c1, &c2, &c3, seed, 0x5EEDu);
-    Uniform4 u = {uint_to_unit_float(c0), uint_to_unit_float(c1), uint_to_unit_float(c2), uint_to_unit_float(c3)};
+    uint h = hash32(hash32(hash32(hash32(seed) ^ sample) ^ bounce) ^ block);
+    uint r = reverse_bits32(iteration);
+    uint x, y, z, w;
+    owen_sobol2(r, h, &y, &z);
+    owen_sobol2(r, hash32(h ^ 0x1B873593u), &x, &w);
+    Uniform4 u = {uint_to_unit_float(x), uint_to_unit_float(y), uint_to_unit_float(z), uint_to_unit_float(w)};
     return u;
 }
 

@@ -217,7 +217,7 @@ typedef struct EmissionSample {
 } EmissionSample;
 
 /* Sampling the ray's start and direction. u.x selects the light, u.y, u.z
- * the position, v.x, v.y the direction. Infinite lights (directional,
+ * the position, v.y, v.z the direction. Infinite lights (directional,
  * background) start their rays on a disk of the bounding sphere's radius,
  * facing the scene, just outside the sphere. */
 INLINE bool sample_emission(__global const Light* lights, __global const float* cdf,
@@ -242,15 +242,15 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
     if (type == LIGHT_TRIANGLE) {
         e->position =
             sample_triangle_point(triVertices, l->triangle, u.y, u.z, &e->bary, &e->positionError, &e->normal);
-        /* Two-sided: either face with probability 1/2, v.x reused for the direction. */
-        float ux = v.x;
+        /* Two-sided: either face with probability 1/2, v.y reused for the direction. */
+        float ux = v.y;
         if (l->sides == 2) {
             bool back = ux >= 0.5f;
             ux = back ? 2.0f * ux - 1.0f : 2.0f * ux;
             e->normal = back ? v3_neg(e->normal) : e->normal;
         }
         Frame f = frame_from_normal(e->normal);
-        vec3 dirLocal = sample_cosine_hemisphere(ux, v.y);
+        vec3 dirLocal = sample_cosine_hemisphere(ux, v.z);
         e->direction = to_world(&f, dirLocal);
         e->cosAtLight = dirLocal.z;
         e->pdfPosition = l->pmf / l->area;
@@ -266,12 +266,12 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
         e->directPdf = l->pmf;
         e->deltaPosition = true;
         if (type == LIGHT_POINT) {
-            e->direction = sample_uniform_sphere(v.x, v.y);
+            e->direction = sample_uniform_sphere(v.y, v.z);
             e->pdfDirection = 0.25f * INV_PI_F;
             return true;
         }
         Frame f = frame_from_normal(load3(l->direction));
-        vec3 dirLocal = sample_uniform_cone(v.x, v.y, l->cosOuterCone);
+        vec3 dirLocal = sample_uniform_cone(v.y, v.z, l->cosOuterCone);
         e->direction = to_world(&f, dirLocal);
         e->pdfDirection = 1.0f / (2.0f * PI_F * (1.0f - l->cosOuterCone));
         e->radiance = v3_scale(e->radiance, spot_falloff(l, dirLocal.z));
@@ -290,7 +290,7 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
         } else {
             /* the light travels against the direction towards the background */
             vec3 towards;
-            ok = sample_background(l, scene, env, v.x, v.y, &towards, &e->radiance, &e->directPdf);
+            ok = sample_background(l, scene, env, v.y, v.z, &towards, &e->radiance, &e->directPdf);
             e->direction = v3_neg(towards);
             e->pdfDirection = l->pmf > 0.0f ? e->directPdf / l->pmf : 0.0f;
         }

@@ -34,7 +34,7 @@ __kernel void generate(RENDER_KERNEL_PARAMS)
         return;
     int sample = params.firstSample + (int)get_global_id(0);
     Uniform4 u = rng_uniform4(params.seed, params.iteration, (uint)sample, 0u, 0u);
-    Ray ray = camera_ray(camera, sample, u.x, u.y);
+    Ray ray = camera_ray(camera, sample, u.y, u.z);
     store_ray(rayOrigins, rayDirections, slot, ray);
     pathPixel[slot] = sample;
     pathDepth[slot] = 0;

@@ -1,0 +1,146 @@
+// The sampler (kernels/core/rng.h): each sample's sequence over iterations
+// is stratified in both of its 2-D pairs at every power of two, and draws
+// are uniform and independent across samples, pairs, bounces and blocks.
+// All draws are deterministic, so each test passes or fails the same way
+// every run; the tolerances say how unlikely a failure of a truly uniform,
+// independent generator would be.
+#include "TestDevices.h"
+#include "render/SceneBuffers.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <set>
+#include <vector>
+
+namespace wv {
+namespace {
+
+using Draw = std::array<float, 4>; // x, y, z, w
+
+struct Request {
+    uint32_t seed = 7, first = 0, iterationStep = 1, firstSample = 0, sampleStep = 0, bounce = 0, block = 0;
+};
+
+std::vector<Draw> draws(DeviceContext& device, const cl::Program& program, Request r, int n)
+{
+    cl::Buffer out = deviceBuffer(device, size_t(n) * sizeof(Draw), "draws");
+    cl::Kernel k(program, "sampler_draws");
+    int arg = 0;
+    for (uint32_t v : {r.seed, r.first, r.iterationStep, r.firstSample, r.sampleStep, r.bounce, r.block})
+        k.setArg(arg++, v);
+    k.setArg(arg++, n);
+    k.setArg(arg++, out);
+    device.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(size_t(n))), cl::NDRange(64));
+    std::vector<Draw> result(static_cast<size_t>(n));
+    device.queue.enqueueReadBuffer(out, CL_TRUE, 0, result.size() * sizeof(Draw), result.data());
+    return result;
+}
+
+// Whether points [start, start + 2^m) are a (0, m, 2)-net: one point in each
+// cell of every 2^a × 2^(m-a) grid.
+bool isNet(const std::vector<Draw>& d, int cx, int cy, size_t start, int m)
+{
+    for (int a = 0; a <= m; ++a) {
+        std::set<uint64_t> cells;
+        for (size_t i = start; i < start + (size_t(1) << m); ++i) {
+            auto x = uint64_t(std::ldexp(double(d[i][cx]), a));
+            auto y = uint64_t(std::ldexp(double(d[i][cy]), m - a));
+            if (!cells.insert(x << 32 | y).second) return false;
+        }
+    }
+    return true;
+}
+
+// Pearson's chi-square of the points' (cx, cy) coordinates over a b × b grid.
+// For n uniform, independent points it has b² - 1 degrees of freedom; the
+// bound mean + 6 standard deviations is exceeded with probability < 1e-6.
+double chiSquare(const std::vector<Draw>& a, int cx, const std::vector<Draw>& b, int cy, int bins)
+{
+    std::vector<double> count(size_t(bins * bins));
+    for (size_t i = 0; i < a.size(); ++i)
+        count[size_t(int(a[i][cx] * bins) * bins + int(b[i][cy] * bins))] += 1;
+    double expected = double(a.size()) / (bins * bins), chi = 0;
+    for (double c : count) chi += (c - expected) * (c - expected) / expected;
+    return chi;
+}
+
+double chiSquareBound(int bins)
+{
+    double dof = bins * bins - 1;
+    return dof + 6 * std::sqrt(2 * dof);
+}
+
+// Runs `check(device, program)` on every device: the draws are integer
+// arithmetic, the same on all of them.
+template <typename Check> void onEveryDevice(Check check)
+{
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
+        SCOPED_TRACE(info.name + " (" + info.platformName + ")");
+        DeviceContext device(info);
+        check(device, test::buildTestProgram(device, {test::testKernel("sampler_tests.cl")}));
+    }
+}
+
+// Every run of 2^m iterations from 0 (and the second such run) is a net in
+// (y, z) and in (x, w), for several samples, bounces and blocks; 24-bit
+// floats resolve cells down to 2^-12 × 2^-12.
+TEST(Sampler, StratifiedAtEveryPowerOfTwo)
+{
+    onEveryDevice([](DeviceContext& device, const cl::Program& program) {
+    for (Request r : {Request{}, Request{7, 0, 1, 12345, 0, 3, 1}, Request{99, 0, 1, 1u << 20, 0, 9, 3}}) {
+        std::vector<Draw> d = draws(device, program, r, 1 << 13);
+        for (int m = 0; m <= 12; ++m)
+            for (size_t start : {size_t(0), size_t(1) << m}) {
+                EXPECT_TRUE(isNet(d, 1, 2, start, m)) << "(y, z), 2^" << m << " from " << start;
+                EXPECT_TRUE(isNet(d, 0, 3, start, m)) << "(x, w), 2^" << m << " from " << start;
+            }
+    }
+    });
+}
+
+// At one iteration, 65,536 samples' draws are uniform in each pair of
+// dimensions, the pairs that are stratified and those that are not.
+TEST(Sampler, UniformAcrossSamples)
+{
+    onEveryDevice([](DeviceContext& device, const cl::Program& program) {
+    for (uint32_t iteration : {0u, 5u, 1000u}) {
+        Request r{7, iteration, 0, 0, 1, 2, 0};
+        std::vector<Draw> d = draws(device, program, r, 1 << 16);
+        for (auto [cx, cy] : {std::pair{0, 1}, std::pair{1, 2}, std::pair{2, 3}, std::pair{0, 3}, std::pair{0, 2}})
+            EXPECT_LT(chiSquare(d, cx, d, cy, 16), chiSquareBound(16))
+                << "iteration " << iteration << ", dimensions " << cx << ", " << cy;
+    }
+    });
+}
+
+// Along one sample's 4,096 iterations, draws of different pairs, blocks and
+// bounces are independent: without the index shuffle two pairs' points
+// would be a fixed nested permutation of each other and fill only 16 of the
+// 256 cells here.
+TEST(Sampler, PairsBlocksAndBouncesIndependent)
+{
+    onEveryDevice([](DeviceContext& device, const cl::Program& program) {
+    const int n = 4096;
+    Request base{7, 0, 1, 4242, 0, 1, 0};
+    Request otherBlock = base, otherBounce = base, otherSeed = base;
+    otherBlock.block = 1;
+    otherBounce.bounce = 2;
+    otherSeed.seed = 8;
+    std::vector<Draw> a = draws(device, program, base, n);
+    double bound = chiSquareBound(16);
+    EXPECT_LT(chiSquare(a, 1, a, 0, 16), bound) << "y against x (the other pair)";
+    EXPECT_LT(chiSquare(a, 2, a, 3, 16), bound) << "z against w (the other pair)";
+    for (const Request& other : {otherBlock, otherBounce, otherSeed}) {
+        std::vector<Draw> b = draws(device, program, other, n);
+        for (int c = 0; c < 4; ++c)
+            EXPECT_LT(chiSquare(a, c, b, c, 16), bound)
+                << "dimension " << c << " against block " << other.block << ", bounce " << other.bounce
+                << ", seed " << other.seed;
+    }
+    });
+}
+
+} // namespace
+} // namespace wv
