@@ -74,7 +74,10 @@ INLINE uint sobol1_reversed(uint j)
  * the index is shuffled by a nested scramble, which keeps every aligned run
  * of 2^m indices an aligned run, then each coordinate is Owen-scrambled. Any
  * 2^m consecutive points from 0 are then stratified in every elementary
- * interval of area 2^-m; distinct seeds give decorrelated sequences. */
+ * interval of area 2^-m; distinct seeds give decorrelated sequences. An Owen
+ * scramble of a value v is reverse(laine_karras(reverse(v))); Sobol's first
+ * dimension is reverse(j), so its two reversals cancel, and the second is
+ * computed bit-reversed for the same reason. */
 INLINE void owen_sobol2(uint reversedIndex, uint seed, uint* x, uint* y)
 {
     uint j = reverse_bits32(laine_karras(reversedIndex, seed));
