@@ -45,7 +45,9 @@ INLINE uint laine_karras(uint x, uint seed)
     return x;
 }
 
-/* A 32-bit integer hash (a multiply-xorshift finalizer). */
+/* 32 bits mixed so that every input bit changes each output bit with
+ * probability about 1/2 (a multiply-xorshift finalizer); also alpha.h's ray
+ * hash. */
 INLINE uint hash32(uint x)
 {
     x ^= x >> 16;

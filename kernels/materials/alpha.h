@@ -11,6 +11,7 @@
 #define WAVEVCM_ALPHA_H
 
 #include "core/ray.h"
+#include "core/rng.h"
 #include "interface/inline.h"
 #include "interface/kernel_interface.h"
 #include "materials/texture.h"
@@ -25,28 +26,16 @@ INLINE float surface_alpha(const RenderBuffers* b, __global const Material* m, i
     return alpha;
 }
 
-/* 32 bits mixed so that every input bit changes each output bit with
- * probability about 1/2 (a multiply-xorshift finaliser). */
-INLINE uint hash_mix(uint h)
-{
-    h ^= h >> 16;
-    h *= 0x7feb352du;
-    h ^= h >> 15;
-    h *= 0x846ca68bu;
-    h ^= h >> 16;
-    return h;
-}
-
 /* A number in [0, 1) from the ray's origin and direction and the triangle. */
 INLINE float ray_hash(Ray ray, int tri)
 {
-    uint h = hash_mix((uint)tri);
-    h = hash_mix(h ^ as_uint(ray.origin.x));
-    h = hash_mix(h ^ as_uint(ray.origin.y));
-    h = hash_mix(h ^ as_uint(ray.origin.z));
-    h = hash_mix(h ^ as_uint(ray.direction.x));
-    h = hash_mix(h ^ as_uint(ray.direction.y));
-    h = hash_mix(h ^ as_uint(ray.direction.z));
+    uint h = hash32((uint)tri);
+    h = hash32(h ^ as_uint(ray.origin.x));
+    h = hash32(h ^ as_uint(ray.origin.y));
+    h = hash32(h ^ as_uint(ray.origin.z));
+    h = hash32(h ^ as_uint(ray.direction.x));
+    h = hash32(h ^ as_uint(ray.direction.y));
+    h = hash32(h ^ as_uint(ray.direction.z));
     return (float)(h >> 8) * (1.0f / 16777216.0f);
 }
 
