@@ -217,6 +217,21 @@ def relmse(binary, test, reference):
     return float(out.split("relmse")[1].split()[0])
 
 
+def machine():
+    """CPU model, cores and widest x86 vector extension: the two renderers'
+    ratio has moved by 2x between machines (README), so runs say where."""
+    model, flags = "unknown CPU", set()
+    with open("/proc/cpuinfo") as f:
+        for line in f:
+            key, _, value = line.partition(":")
+            if key.strip() == "model name":
+                model = value.strip()
+            elif key.strip() == "flags":
+                flags = set(value.split())
+    simd = next((f for f in ("avx512f", "avx2", "avx", "sse4_2") if f in flags), "sse2")
+    return "%s, %d cores, %s" % (model, os.cpu_count(), simd)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", default="scenes/cornell-box.gltf")
@@ -252,6 +267,7 @@ def main():
         rows.append((label, key, spp, seconds))
 
     pixels = args.width * args.height
+    print("machine: %s\n" % machine())
     print("| renderer | spp in %g s | samples/s | relMSE vs own %g s reference |" % (args.seconds, args.reference_seconds))
     print("| --- | --- | --- | --- |")
     errors = {}
