@@ -49,13 +49,17 @@ typedef struct BsdfSample {
  * surface for the smooth lobe): metal Schlick plus the layer's exact Fresnel. */
 INLINE vec3 reflectance(const Bsdf* b, float cosH, float eta)
 {
-    return v3_add(v3_scale(fresnel_schlick(b->metalF0, cosH), b->metallic),
-                  v3_scale(b->specularTint, fresnel_dielectric(cosH, eta)));
+    vec3 metal = v3_scale(fresnel_schlick(b->metalF0, cosH), b->metallic);
+    if (b->specular == 0.0f) /* no dielectric layer: skip its Fresnel */
+        return metal;
+    return v3_add(metal, v3_scale(b->specularTint, fresnel_dielectric(cosH, eta)));
 }
 
 /* What the dielectric layer lets through to transmission and diffuse. */
 INLINE float layer_transmittance(const Bsdf* b, float cosH, float eta)
 {
+    if (b->specular == 0.0f) /* no layer (pure Lambert, metal): skip its Fresnel */
+        return 1.0f;
     return 1.0f - b->specular * fresnel_dielectric(cosH, eta);
 }
 
