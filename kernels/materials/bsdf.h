@@ -42,6 +42,7 @@ typedef struct BsdfSample {
     vec3 wi;
     vec3 weight; /* f · |cos θi| / pdf */
     float pdf;     /* solid angle; for a delta lobe the lobe's selection probability */
+    float pdfRev;  /* of sampling wo from wi (bidirectional MIS); a delta lobe: pdf */
     bool delta;
 } BsdfSample;
 
@@ -236,7 +237,7 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
     if (u1 < pR) {
         if (b->lobes & LOBE_DELTA_REFLECTION) {
             s->wi = v3(-wo.x, -wo.y, wo.z);
-            s->pdf = pR;
+            s->pdf = s->pdfRev = pR;
             s->delta = true;
             s->weight = v3_div(reflectance(b, wo.z, b->eta), pR); /* f·cos/pdf with f = R·δ/cos */
             return true;
@@ -253,7 +254,7 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
         if ((b->lobes & LOBE_DELTA_TRANSMISSION) || !b->refracts) {
             float T = layer_transmittance(b, wo.z, b->eta);
             s->delta = true;
-            s->pdf = pT;
+            s->pdf = s->pdfRev = pT;
             if (!b->refracts) { /* thin-walled: straight through */
                 s->wi = v3_neg(wo);
                 s->weight = v3_div(v3_scale(b->transmitColor, T), pT);
@@ -277,8 +278,7 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
         if (s->wi.z <= 0.0f)
             return false;
     }
-    float pdfRev;
-    vec3 f = bsdf_eval(b, wo, s->wi, adjoint, &s->pdf, &pdfRev);
+    vec3 f = bsdf_eval(b, wo, s->wi, adjoint, &s->pdf, &s->pdfRev);
     if (!(s->pdf > 0.0f))
         return false;
     s->weight = v3_scale(f, fabs(s->wi.z) / s->pdf);

@@ -80,7 +80,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
     if (alive) {
         Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 1u);
         Scatter s;
-        alive = scatter(&bsdf, &hit, wo, woL, u, false, false, &s);
+        alive = scatter(&bsdf, &hit, wo, woL, u, false, &s);
         if (alive) {
             beta = v3_mul(beta, s.weight);
             if (s.refracted)

@@ -29,10 +29,9 @@ typedef struct Scatter {
 /* Samples the BSDF at `hit`, wo pointing back along the path (woL in the
  * shading frame); `adjoint` for light paths. Fails when the sample is void or
  * wi lies on the other side of the geometric surface than its side of the
- * shading frame says (sides_agree). `reverse`: evaluate revPdfW too (the
- * bidirectional MIS needs it; pt does not). */
+ * shading frame says (sides_agree). */
 INLINE bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, vec3 wo, vec3 woL, Uniform4 u, bool adjoint,
-                    bool reverse, Scatter* s)
+                    Scatter* s)
 {
     BsdfSample bs;
     if (!bsdf_sample(bsdf, woL, u.x, u.y, u.z, adjoint, &bs))
@@ -42,12 +41,7 @@ INLINE bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, vec3 wo, vec3 woL, 
         return false;
     s->weight = adjoint ? v3_scale(bs.weight, adjoint_shading_correction(hit, wo, s->wi)) : bs.weight;
     s->pdfW = bs.pdf;
-    s->revPdfW = bs.pdf;
-    if (reverse && !bs.delta) {
-        float fwd, rev;
-        bsdf_eval(bsdf, woL, bs.wi, adjoint, &fwd, &rev);
-        s->revPdfW = rev;
-    }
+    s->revPdfW = bs.pdfRev;
     s->misCos = mis_cos(hit->ngF, s->wi);
     s->delta = bs.delta;
     s->refracted = bsdf->refracts && bs.wi.z < 0.0f;
@@ -63,7 +57,7 @@ INLINE bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, vec3
                                    bool adjoint, float cont, const LaunchParams* params, PathMis* mis, vec3* beta,
                                    Scatter* s)
 {
-    if (!scatter(bsdf, hit, wo, woL, u, adjoint, true, s) || !(u.w < cont))
+    if (!scatter(bsdf, hit, wo, woL, u, adjoint, s) || !(u.w < cont))
         return false;
     mis_after_scatter(mis, s->delta, s->misCos, s->pdfW * cont, s->revPdfW * cont, params->vmWeightFactor,
                       params->vcWeightFactor);

@@ -24,7 +24,7 @@ __kernel void sample_bsdf(__global const Material* materials, __global const int
     BsdfSample s;
     s.wi = v3s(0.0f);
     s.weight = v3s(0.0f);
-    s.pdf = 0.0f;
+    s.pdf = s.pdfRev = 0.0f;
     s.delta = false;
     float4 u = us[i];
     bool ok = bsdf_sample(&b, wo, u.x, u.y, u.z, adjoint, &s);
