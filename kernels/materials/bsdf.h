@@ -46,22 +46,27 @@ typedef struct BsdfSample {
     bool delta;
 } BsdfSample;
 
+/* Fresnel reflectance of the dielectric layer at cos θ; 0 where the material
+ * has no layer (specular 0: Lambert, metal), whose Fresnel is then not
+ * computed at all (it costs a square root and three divisions, several
+ * times per BSDF). */
+INLINE float layer_fresnel(const Bsdf* b, float cosH, float eta)
+{
+    return b->specular == 0.0f ? 0.0f : fresnel_dielectric(cosH, eta);
+}
+
 /* Reflectance of the reflection lobe at cos θ (of a microfacet, or of the
  * surface for the smooth lobe): metal Schlick plus the layer's exact Fresnel. */
 INLINE vec3 reflectance(const Bsdf* b, float cosH, float eta)
 {
-    vec3 metal = v3_scale(fresnel_schlick(b->metalF0, cosH), b->metallic);
-    if (b->specular == 0.0f) /* no dielectric layer: skip its Fresnel */
-        return metal;
-    return v3_add(metal, v3_scale(b->specularTint, fresnel_dielectric(cosH, eta)));
+    return v3_add(v3_scale(fresnel_schlick(b->metalF0, cosH), b->metallic),
+                  v3_scale(b->specularTint, layer_fresnel(b, cosH, eta)));
 }
 
 /* What the dielectric layer lets through to transmission and diffuse. */
 INLINE float layer_transmittance(const Bsdf* b, float cosH, float eta)
 {
-    if (b->specular == 0.0f) /* no layer (pure Lambert, metal): skip its Fresnel */
-        return 1.0f;
-    return 1.0f - b->specular * fresnel_dielectric(cosH, eta);
+    return 1.0f - b->specular * layer_fresnel(b, cosH, eta);
 }
 
 /* Lobe selection probabilities for a path arriving from direction w
