@@ -12,7 +12,7 @@
 //   HashGridBuild    light vertices/s;
 //   BvhBuild         triangles/s for generated meshes up to 4M triangles;
 //   ProgramBuild     kernel build time of vcm, cold (cached:0) and from
-//                    wavevcm's program cache (cached:1).
+//                    the program cache (cached:1): wavevcm's, or PoCL's own.
 // The first argument of the ray and kernel benchmarks is the wavefront size.
 // Scene: $WAVEVCM_BENCH_SCENE (default scenes/cornell-box.gltf); device:
 // $WAVEVCM_BENCH_DEVICE (as `render --device`). Counters: bytes_per_path
@@ -304,7 +304,8 @@ BENCHMARK(BM_BvhBuild)->Arg(1 << 12)->Arg(1 << 16)->Arg(1 << 20)->Arg(1 << 22)->
 
 // Building the vcm program (kernel sources expanded, options of the scene):
 // cold (argument 0: wavevcm's cache off, and a declaration unique to each
-// build so that the driver's own cache, PoCL's, misses too) or cached (1).
+// build so that the driver's own cache, PoCL's, misses too) or cached (1:
+// from wavevcm's cache, or on PoCL from PoCL's, which wavevcm leaves it to).
 // clBuildProgram only: PoCL compiles each kernel's work-group function at
 // its first launch, which the first iteration pays (see the README).
 void BM_ProgramBuild(benchmark::State& state)

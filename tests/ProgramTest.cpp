@@ -95,10 +95,13 @@ TEST(ProgramBuild, FailureReportsTheBuildLogWithFileAndLine)
     }
 }
 
+// wavevcm's cache, on every device: PoCL's own cache is switched off for
+// it (POCL_KERNEL_CACHE=0), as it is read at each build.
 TEST(ProgramBuild, SecondBuildComesFromTheCache)
 {
     TempDir dir("cache");
     ::setenv("WAVEVCM_CACHE_DIR", dir.path.c_str(), 1);
+    ::setenv("POCL_KERNEL_CACHE", "0", 1);
     // A source unique to this run, so nothing older can be in any cache.
     std::string source = "__kernel void k(__global int* x) { x[get_global_id(0)] = " +
                          std::to_string(::getpid()) + "; }\n";
@@ -129,7 +132,32 @@ TEST(ProgramBuild, SecondBuildComesFromTheCache)
         ProgramBuild third = buildProgram(device.context, info, source, "");
         EXPECT_FALSE(third.fromCache);
     }
+    ::unsetenv("POCL_KERNEL_CACHE");
     ::unsetenv("WAVEVCM_CACHE_DIR");
+}
+
+// PoCL with its own cache on is left to it: wavevcm writes no binary there
+// (exporting one compiles every kernel again), and says so.
+TEST(ProgramBuild, PoclIsLeftToItsOwnCache)
+{
+    TempDir dir("driver-cache");
+    ::setenv("WAVEVCM_CACHE_DIR", dir.path.c_str(), 1);
+    ::unsetenv("POCL_KERNEL_CACHE");
+    std::string source = "__kernel void k(__global int* x) { x[get_global_id(0)] = " +
+                         std::to_string(::getpid()) + " + 1; }\n";
+    int pocl = 0;
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
+        if (info.platformName != "Portable Computing Language") continue;
+        ++pocl;
+        DeviceContext device(info);
+        ProgramBuild build = buildProgram(device.context, info, source, "");
+        EXPECT_EQ(build.cache, ProgramBuild::Cache::Driver);
+        EXPECT_TRUE(build.cacheFile.empty());
+        EXPECT_FALSE(build.fromCache);
+    }
+    EXPECT_TRUE(fs::is_empty(dir.path));
+    ::unsetenv("WAVEVCM_CACHE_DIR");
+    if (pocl == 0) GTEST_SKIP() << "no PoCL device";
 }
 
 } // namespace

@@ -22,17 +22,25 @@ std::string findKernelDir();
 std::string expandKernelSources(const std::string& kernelDir, const std::vector<std::string>& files);
 
 struct ProgramBuild {
+    // Which cache keeps the compiled program for the next run: wavevcm's, the
+    // driver's own (PoCL's), or none (WAVEVCM_CACHE_DIR=off, or a driver that
+    // cannot export binaries).
+    enum class Cache { Wavevcm, Driver, None };
     cl::Program program;
-    bool fromCache = false;
+    Cache cache = Cache::None;
+    bool fromCache = false; // loaded from wavevcm's cache
     double seconds = 0;
-    std::string cacheFile; // empty when caching is off
+    std::string cacheFile; // wavevcm's cache file; empty when it is not used
 };
+const char* cacheName(ProgramBuild::Cache cache); // "wavevcm", "driver", "none"
 
 // Builds `source` with `options`, or loads the binary cached under a key of
 // source, options, platform, device and driver version. The cache lives in
 // $WAVEVCM_CACHE_DIR, else $XDG_CACHE_HOME/wavevcm, else ~/.cache/wavevcm;
-// WAVEVCM_CACHE_DIR=off disables it. A failed build throws wv::Error with the
-// device's build log.
+// WAVEVCM_CACHE_DIR=off disables it. PoCL with its own kernel cache on
+// (POCL_KERNEL_CACHE unset or not 0) is left to that cache: exporting a
+// binary from PoCL compiles every kernel of the program a second time. A
+// failed build throws wv::Error with the device's build log.
 ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, const std::string& source,
                           const std::string& options);
 

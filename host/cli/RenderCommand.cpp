@@ -259,7 +259,9 @@ int runRender(const RenderOptions& o)
                      scenePath.c_str(), scene.triangleCount(), settings.width, settings.height, o.algorithm.c_str(),
                      chosen[i].name.c_str(), chosen[i].platformName.c_str(), setupSeconds,
                      render.renderer(i).programBuild().seconds,
-                     render.renderer(i).programBuild().fromCache ? ", cached" : "");
+                     render.renderer(i).programBuild().fromCache                               ? ", cached"
+                     : render.renderer(i).programBuild().cache == ProgramBuild::Cache::Driver ? ", driver's cache"
+                                                                                               : "");
     if (ranks > 1 && !quiet)
         std::fprintf(stderr, "wavevcm: MPI job of %d ranks; rank 0 on %s writes the outputs\n", ranks,
                      cluster::hostName().c_str());
@@ -384,6 +386,7 @@ int runRender(const RenderOptions& o)
             {"bvh_sah_cost", bvh.sahCost},
             {"bvh_build_seconds", bvh.buildSeconds},
             {"kernel_build_seconds", render.renderer(0).programBuild().seconds},
+            {"kernel_cache", cacheName(render.renderer(0).programBuild().cache)},
             {"kernel_cache_hit", render.renderer(0).programBuild().fromCache},
             {"wavefront", render.renderer(0).wavefront()},
             {"merge_radius", render.renderer(0).mergeRadius()},
