@@ -29,6 +29,7 @@ TEST(KernelInterface, EveryRenderKernelTakesTheDeclaredArguments)
     ASSERT_FALSE(devices.empty());
     DeviceContext device(devices.front());
     Scene scene = loadGltf(test::cornellBoxPath());
+    int lightCount = buildLightTable(scene, buildBvh(scene.vertices)).info.lightCount;
     const std::vector<std::string> names = declaredArgumentNames();
     ASSERT_EQ(names.size(), kRenderKernelArgCount);
     KernelBuffers buffers; // all null: binding needs no allocation
@@ -42,7 +43,7 @@ TEST(KernelInterface, EveryRenderKernelTakesTheDeclaredArguments)
         // build, so the cache's binary (built without it) is not used.
         cl::Program program(device.context, source);
         program.build({device.info.device},
-                      (Renderer::programOptions(a, scene.features()) + " -cl-kernel-arg-info").c_str());
+                      (Renderer::programOptions(a, scene.features(), lightCount) + " -cl-kernel-arg-info").c_str());
         std::vector<cl::Kernel> kernels = renderKernels(program);
         EXPECT_GE(kernels.size(), 5u);
         for (cl::Kernel& k : kernels) {

@@ -89,8 +89,9 @@ public:
 
     // The kernel files of the program for an algorithm.
     static std::vector<std::string> kernelFiles(Algorithm algorithm);
-    // Their build options: the algorithm's defines and the scene's features.
-    static std::string programOptions(Algorithm algorithm, const SceneFeatures& features);
+    // Their build options: the algorithm's defines, the scene's features and
+    // the light selection's steps for a table of lightCount lights.
+    static std::string programOptions(Algorithm algorithm, const SceneFeatures& features, int lightCount);
 
 private:
     // The kernels of one kind of sub-path, in the order a round runs them.
@@ -153,6 +154,7 @@ private:
 // Default wavefront capacity: ~256K paths on a CPU, 2M on a GPU, at most what
 // a quarter of the device's memory holds.
 int defaultWavefront(const DeviceInfo& device);
+// -DLIGHT_SELECT_STEPS for a light table of lightCount lights.
 std::string lightSelectOption(int lightCount);
 
 } // namespace wv
