@@ -144,6 +144,27 @@ void expectNear(const Estimate& e, std::array<double, 3> expected, const char* w
             << what << " channel " << c << " (standard error " << e.standardError[c] << ")";
 }
 
+// The render programs carry the light selection's step count for their
+// table (enough bits for the largest index, in multiples of 4): without it
+// the kernels fall back to the 31 steps that cover any table. Enough steps is
+// what the sampling tests below check; this checks the renderer asks for them.
+TEST(Lights, RenderProgramsSearchTheirOwnTable)
+{
+    SceneFeatures features;
+    auto steps = [&](int lights) {
+        std::string o = Renderer::programOptions(Algorithm::VertexConnectionMerging, features, lights);
+        size_t at = o.find("-DLIGHT_SELECT_STEPS=");
+        return at == std::string::npos ? -1 : std::atoi(o.c_str() + at + 21);
+    };
+    EXPECT_EQ(steps(1), 0);
+    EXPECT_EQ(steps(2), 4);
+    EXPECT_EQ(steps(16), 4);
+    EXPECT_EQ(steps(17), 8);
+    EXPECT_EQ(steps(1 << 20), 20);
+    EXPECT_EQ(steps((1 << 20) + 1), 24);
+    EXPECT_EQ(steps(1 << 30), 31);
+}
+
 TEST(Lights, EmissionSamplingCarriesEachLightsPower)
 {
     const int n = 1 << 20;
