@@ -4,12 +4,15 @@
 # then renders the same scenes with both builds (BEFORE's binary and this
 # tree's build/) and prints, per scene and algorithm,
 #   - iterations per second in SECONDS of wall time each, and after/before;
+#     with REPEATS=n > 1 the two builds run alternately n times each and the
+#     table gives each build's median and the range of the n paired ratios
+#     (the machine's speed drifts by ±10 % between single runs);
 #   - relMSE between the two builds' images at the same seed and iteration
 #     count (SPP), which says whether the change kept the image: ~1e-12 is
 #     float rounding, a changed sampling shows as noise-level relMSE.
 # Usage: scripts/compare_commits.sh [BEFORE] ; settings from the environment:
 #   SCENES="scenes/cornell-box.gltf scenes/caustics.gltf"  ALGORITHMS="pt bpt vcm"
-#   SECONDS_EACH=10  SPP=4  WIDTH=512  HEIGHT=512  DEVICE=pthread  MAX_PATH_LENGTH=10
+#   SECONDS_EACH=10  SPP=4  WIDTH=512  HEIGHT=512  DEVICE=pthread  MAX_PATH_LENGTH=10  REPEATS=1
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -23,6 +26,7 @@ width=${WIDTH:-512}
 height=${HEIGHT:-512}
 device=${DEVICE:-pthread}
 maxlen=${MAX_PATH_LENGTH:-10}
+repeats=${REPEATS:-1}
 
 tree="$root/../wavevcm-$sha"
 if [ ! -d "$tree" ]; then
@@ -41,22 +45,40 @@ trap 'rm -rf "$work"' EXIT
 # Reads iterations / render_seconds from a --stats file.
 rate() { python3 -c 'import json,sys; s=json.load(open(sys.argv[1])); print(s["iterations"]/s["render_seconds"])' "$1"; }
 
-printf '| scene | algorithm | before it/s | after it/s | after/before | relMSE after vs before (%s it, same seed) |\n' "$spp"
-printf '| --- | --- | --- | --- | --- | --- |\n'
+if [ "$repeats" -gt 1 ]; then
+  printf '| scene | algorithm | before it/s (median of %s) | after it/s (median) | after/before (medians) | paired ratios, min-max | relMSE after vs before (%s it, same seed) |\n' "$repeats" "$spp"
+  printf '| --- | --- | --- | --- | --- | --- | --- |\n'
+else
+  printf '| scene | algorithm | before it/s | after it/s | after/before | relMSE after vs before (%s it, same seed) |\n' "$spp"
+  printf '| --- | --- | --- | --- | --- | --- |\n'
+fi
 for scene in $scenes; do
   for a in $algorithms; do
     common=(render "$scene" -a "$a" --width "$width" --height "$height" -d "$device" --max-path-length "$maxlen" -q)
     # Warm both program caches first, so neither timing includes a kernel build.
     "$old" "${common[@]}" -n 1 -o "$work/warm.exr"
     "$new" "${common[@]}" -n 1 -o "$work/warm.exr"
-    "$old" "${common[@]}" -t "$seconds" -o "$work/old-t.exr" --stats "$work/old.json"
-    "$new" "${common[@]}" -t "$seconds" -o "$work/new-t.exr" --stats "$work/new.json"
+    before=() after=()
+    for ((i = 0; i < repeats; ++i)); do
+      "$old" "${common[@]}" -t "$seconds" -o "$work/old-t.exr" --stats "$work/old.json"
+      "$new" "${common[@]}" -t "$seconds" -o "$work/new-t.exr" --stats "$work/new.json"
+      before+=("$(rate "$work/old.json")")
+      after+=("$(rate "$work/new.json")")
+    done
     "$old" "${common[@]}" -n "$spp" --seed 7 -o "$work/old.exr"
     "$new" "${common[@]}" -n "$spp" --seed 7 -o "$work/new.exr"
-    r0=$(rate "$work/old.json")
-    r1=$(rate "$work/new.json")
     relmse=$("$new" compare "$work/new.exr" "$work/old.exr" | sed -n 's/.*relmse \([^ ]*\).*/\1/p')
-    printf '| %s | %s | %.3g | %.3g | %.2f | %s |\n' "$(basename "$scene" .gltf)" "$a" "$r0" "$r1" \
-      "$(python3 -c "print($r1/$r0)")" "$relmse"
+    python3 - "$(basename "$scene" .gltf)" "$a" "$relmse" "${before[*]}" "${after[*]}" <<'PY'
+import statistics, sys
+scene, algorithm, relmse = sys.argv[1:4]
+before = [float(x) for x in sys.argv[4].split()]
+after = [float(x) for x in sys.argv[5].split()]
+b, a = statistics.median(before), statistics.median(after)
+if len(before) == 1:
+    print(f"| {scene} | {algorithm} | {b:.3g} | {a:.3g} | {a / b:.2f} | {relmse} |")
+else:
+    ratios = [y / x for x, y in zip(before, after)]
+    print(f"| {scene} | {algorithm} | {b:.3g} | {a:.3g} | {a / b:.2f} | {min(ratios):.2f}-{max(ratios):.2f} | {relmse} |")
+PY
   done
 done
