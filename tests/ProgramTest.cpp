@@ -95,8 +95,9 @@ TEST(ProgramBuild, FailureReportsTheBuildLogWithFileAndLine)
     }
 }
 
-// wavevcm's cache, on every device: PoCL's own cache is switched off for
-// it (POCL_KERNEL_CACHE=0), as it is read at each build.
+// wavevcm's cache, on every device: on PoCL wavevcm uses it only when
+// POCL_KERNEL_CACHE=0, which buildProgram reads at each build (PoCL itself
+// may have read it earlier, at start-up; its own caching does not matter here).
 TEST(ProgramBuild, SecondBuildComesFromTheCache)
 {
     TempDir dir("cache");

@@ -191,7 +191,7 @@ static bool storeCached(const fs::path& file, const cl::Program& program)
 // (CL_PROGRAM_BINARIES) compiles a generic work-group function for every
 // kernel of the program on top of the specialised ones its launches compile:
 // with wavevcm's cache as well, a cold HardCases.EveryAlgorithmStaysFinite
-// took 188 s on PoCL 3.1, without it 99 s. A warm program build takes 0.10 s
+// took 188 s on PoCL 3.1, without it 99 s. A warm program build takes 0.09 s
 // from PoCL's cache, 0.04 s from wavevcm's (vcm on a Cornell box).
 static bool driverCachesPrograms(const DeviceInfo& device)
 {
