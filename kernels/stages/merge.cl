@@ -33,9 +33,15 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     float radius2 = params.mergeRadius * params.mergeRadius;
     int buckets[8];
     grid_query_buckets(to_float3(cv.hit.p), 2.0f * params.mergeRadius, params.cellCount, buckets);
-    for (int k = 0; k < 8; ++k) /* the scan below loads them one after another */
+    /* Hints for the scan below: the buckets' starts, then each bucket's first
+     * record. Both lie anywhere in the grid; hinted together, their cache
+     * misses overlap instead of each bucket waiting for the one before. */
+    for (int k = 0; k < 8; ++k)
         if (buckets[k] >= 0)
             PREFETCH(&bucketStarts[buckets[k]], 8);
+    for (int k = 0; k < 8; ++k)
+        if (buckets[k] >= 0)
+            PREFETCH(&bucketVertices[bucketStarts[buckets[k]]], 16);
     int depth = hit_depth(pathDepth, slot);
 
     vec3 sum = v3s(0.0f);
