@@ -11,11 +11,32 @@
 #include "interface/inline.h"
 #include "transport/path_state.h"
 
+/* Hints for the adds ahead: the pixel index (pixelOf[slot]) and the
+ * contribution of entry i + D, then, through that index, the pixel of entry
+ * i + D/2 itself. The pixels lie anywhere in the image, and each add waited
+ * for its pixel's cache line (connect_splat: half of its time, in the
+ * compare-and-swap loop). */
+INLINE void prefetch_shadow_pixels(const RenderBuffers* b, int capacity, int i, __global const int* pixelOf,
+                                   __global const float4* image)
+{
+#ifdef HAS_PREFETCH
+    int slot = queue_item(b->queueItems, b->queueCounters, capacity, QUEUE_SHADOW, i + PREFETCH_DISTANCE);
+    if (slot >= 0) {
+        PREFETCH(&pixelOf[slot], 4);
+        PREFETCH(&b->shadowContribution[slot], 16);
+    }
+    slot = queue_item(b->queueItems, b->queueCounters, capacity, QUEUE_SHADOW, i + PREFETCH_DISTANCE / 2);
+    if (slot >= 0)
+        PREFETCH(&image[pixelOf[slot]], 16);
+#endif
+}
+
 __kernel void connect(RENDER_KERNEL_PARAMS)
 {
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_ray(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0), shadowOrigins,
                  shadowDirections);
+    prefetch_shadow_pixels(&b, params.capacity, get_global_id(0), pathPixel, pixelRadiance);
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
     if (slot < 0)
         return;
@@ -37,29 +58,12 @@ INLINE void atomic_add_float(volatile __global float* p, float v)
     } while (atomic_cmpxchg((volatile __global uint*)p, expected.u, desired.u) != expected.u);
 }
 
-/* Hints for the splats ahead: the target pixel of entry i + D and then,
- * through it, the pixel of entry i + D/2 itself: the pixels lie anywhere in
- * the image, and the compare-and-swap loop waits for each one's cache line. */
-INLINE void prefetch_splats(const RenderBuffers* b, int capacity, int i)
-{
-#ifdef HAS_PREFETCH
-    int slot = queue_item(b->queueItems, b->queueCounters, capacity, QUEUE_SHADOW, i + PREFETCH_DISTANCE);
-    if (slot >= 0) {
-        PREFETCH(&b->shadowPixel[slot], 4);
-        PREFETCH(&b->shadowContribution[slot], 16);
-    }
-    slot = queue_item(b->queueItems, b->queueCounters, capacity, QUEUE_SHADOW, i + PREFETCH_DISTANCE / 2);
-    if (slot >= 0)
-        PREFETCH(&b->splatRadiance[b->shadowPixel[slot]], 16);
-#endif
-}
-
 __kernel void connect_splat(RENDER_KERNEL_PARAMS)
 {
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_ray(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0), shadowOrigins,
                  shadowDirections);
-    prefetch_splats(&b, params.capacity, get_global_id(0));
+    prefetch_shadow_pixels(&b, params.capacity, get_global_id(0), shadowPixel, splatRadiance);
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
     if (slot < 0)
         return;
