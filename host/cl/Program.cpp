@@ -24,9 +24,15 @@ static const char* kCacheVersion = "wavevcm-program-cache-2";
 
 std::string findKernelDir()
 {
-    std::vector<fs::path> candidates;
-    if (const char* env = std::getenv("WAVEVCM_KERNEL_DIR")) candidates.emplace_back(env);
     std::error_code ec;
+    // Set by hand to try other kernels: a wrong path is an error, never a
+    // silent fall back to the installed kernels.
+    if (const char* env = std::getenv("WAVEVCM_KERNEL_DIR")) {
+        if (fs::exists(fs::path(env) / "interface" / "shared_types.h", ec)) return env;
+        throw Error(std::string("WAVEVCM_KERNEL_DIR=") + env +
+                    ": not a kernels/ directory (no interface/shared_types.h in it)");
+    }
+    std::vector<fs::path> candidates;
     fs::path exe = fs::read_symlink("/proc/self/exe", ec);
     if (!ec) candidates.push_back(exe.parent_path().parent_path() / "share" / "wavevcm" / "kernels");
     candidates.emplace_back(WAVEVCM_SOURCE_KERNEL_DIR);
