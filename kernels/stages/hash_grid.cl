@@ -5,16 +5,40 @@
  * and every chunk adds its offset (scan_add) — no barriers, which CPU
  * devices run slowly, and few enough chunks for the serial middle step.
  * The scatter writes each vertex as merging reads it (MergeVertex). */
+#include "core/prefetch.h"
 #include "interface/shared_types.h"
 #include "transport/hash_grid.h"
+
+/* The bucket of vertex i, or -1 past the end. */
+INLINE int vertex_bucket(__global const LightVertex* vertices, int count, int i, float cellSize, uint cellCount)
+{
+    return i < count ? (int)grid_bucket(grid_cell(vload3(0, vertices[i].position), cellSize), cellCount) : -1;
+}
+
+/* For hints (CPU devices, core/prefetch.h): the bucket of the vertex
+ * GRID_PREFETCH_DISTANCE after i, -1 past the end or where hints are
+ * nothing. Buckets lie anywhere in the table, and each vertex's atomic add
+ * waited for its bucket's cache line. */
+#define GRID_PREFETCH_DISTANCE 8
+INLINE int bucket_ahead(__global const LightVertex* vertices, int count, int i, float cellSize, uint cellCount)
+{
+#ifdef HAS_PREFETCH
+    return vertex_bucket(vertices, count, i + GRID_PREFETCH_DISTANCE, cellSize, cellCount);
+#else
+    return -1;
+#endif
+}
 
 __kernel void grid_count(__global const LightVertex* vertices, int count, float cellSize, uint cellCount,
                          __global int* bucketCounts)
 {
     int i = get_global_id(0);
+    int ahead = bucket_ahead(vertices, count, i, cellSize, cellCount);
+    if (ahead >= 0)
+        PREFETCH(&bucketCounts[ahead], 4);
     if (i >= count)
         return;
-    atomic_inc(&bucketCounts[grid_bucket(grid_cell(vload3(0, vertices[i].position), cellSize), cellCount)]);
+    atomic_inc(&bucketCounts[vertex_bucket(vertices, count, i, cellSize, cellCount)]);
 }
 
 /* In place: values[i] becomes the sum of the values before it in its chunk;
@@ -63,6 +87,11 @@ __kernel void grid_scatter(__global const LightVertex* vertices, int count, floa
                            __global MergeVertex* bucketVertices)
 {
     int i = get_global_id(0);
+    int ahead = bucket_ahead(vertices, count, i, cellSize, cellCount);
+    if (ahead >= 0) {
+        PREFETCH(&bucketStarts[ahead], 4);
+        PREFETCH(&bucketFill[ahead], 4);
+    }
     if (i >= count)
         return;
     __global const LightVertex* v = &vertices[i];
