@@ -48,6 +48,7 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
 {
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
+    prefetch_pixel(&b, params.capacity, QUEUE_HITS, get_global_id(0), connectionRadiance);
     prefetch_light_paths(&b, &params, get_global_id(0));
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot < 0)

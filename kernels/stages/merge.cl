@@ -21,6 +21,7 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
 {
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
+    prefetch_pixel(&b, params.capacity, QUEUE_HITS, get_global_id(0), mergingRadiance);
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot < 0)
         return;

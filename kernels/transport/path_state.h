@@ -71,6 +71,18 @@ INLINE void prefetch_ray(__global const int* queueItems, __global const int* que
 #endif
 }
 
+/* The pixel of `image` that entry i + D adds to (its pathPixel came with
+ * prefetch_hit_state's hint D entries ago): once slots are reused, the
+ * camera paths' pixels lie anywhere in the image. */
+INLINE void prefetch_pixel(const RenderBuffers* b, int capacity, int queue, int i, __global const float4* image)
+{
+#ifdef HAS_PREFETCH
+    int slot = queue_item(b->queueItems, b->queueCounters, capacity, queue, i + PREFETCH_DISTANCE);
+    if (slot >= 0)
+        PREFETCH(&image[b->pathPixel[slot]], 16);
+#endif
+}
+
 INLINE void prefetch_hit_state(const RenderBuffers* b, int capacity, int queue, int i)
 {
 #ifdef HAS_PREFETCH
