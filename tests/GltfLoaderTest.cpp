@@ -1285,6 +1285,23 @@ TEST_F(GltfLoader, DracoErrorsNameTheExtension)
     GltfBuilder badId = octagonScene(Encoding::Draco);
     badId.j["meshes"].back()["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]["POSITION"] = 7;
     expectLoadError(badId.writeGltf(dir_, "badid"), "no attribute 7");
+
+}
+
+// Two semantics naming one Draco attribute and one accessor (found by the
+// fuzzer: the second took the decoded values from the first, leaving
+// POSITION empty while the triangles indexed it). Each gets the values.
+TEST_F(GltfLoader, DracoAttributeSharedBySemanticsLoads)
+{
+    if (!dracoSupported()) GTEST_SKIP() << "built without Draco (libdraco-dev)";
+    GltfBuilder shared = octagonScene(Encoding::Draco);
+    json& prim = shared.j["meshes"].back()["primitives"][0];
+    prim["attributes"]["NORMAL"] = prim["attributes"]["POSITION"];
+    prim["extensions"]["KHR_draco_mesh_compression"]["attributes"]["NORMAL"] =
+        prim["extensions"]["KHR_draco_mesh_compression"]["attributes"]["POSITION"];
+    Scene list = loadGltf(octagonScene(Encoding::List).writeGltf(dir_, "list"));
+    Scene scene = loadGltf(shared.writeGltf(dir_, "shared"));
+    EXPECT_EQ(scene.vertices.size(), list.vertices.size());
 }
 
 // What a viewer shows must not depend on how the mesh is stored: the same

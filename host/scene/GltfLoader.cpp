@@ -718,7 +718,8 @@ void Loader::decodeDracoPrimitive(int meshIndex, int p, const std::string& what)
     }
     for (uint32_t i : mesh.indices)
         if (i >= mesh.points) fail(where + ": the decoded mesh has an index out of range");
-    for (const auto& [id, accessor] : accessorOfId) dracoFloats_[accessor] = std::move(mesh.attributes[id]);
+    // Copied, not moved: two semantics may name one Draco attribute.
+    for (const auto& [id, accessor] : accessorOfId) dracoFloats_[accessor] = mesh.attributes[id];
     dracoTriangles_[{meshIndex, p}] = std::move(mesh.indices);
 }
 
@@ -905,17 +906,19 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
         auto draco = dracoTriangles_.find({meshIndex, int(p)});
         if (draco != dracoTriangles_.end()) {
             if (!dracoFloats_.count(pos->second)) fail(what + ": POSITION is not among the Draco-compressed attributes");
-            indices = draco->second; // within the decoded points, as decodeDracoPrimitive checked
+            indices = draco->second;
         } else if (prim.indices >= 0) {
             indices = readIndices(prim.indices);
-            for (uint32_t i : indices)
-                if (i >= positions.size())
-                    fail(what + ": index " + std::to_string(i) + " out of range (" +
-                         std::to_string(positions.size()) + " vertices)");
         } else {
             indices.resize(positions.size());
             for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
         }
+        // Decoded Draco indices too: POSITION may name an accessor that holds
+        // fewer points than the compressed mesh (another attribute's).
+        for (uint32_t i : indices)
+            if (i >= positions.size())
+                fail(what + ": index " + std::to_string(i) + " out of range (" + std::to_string(positions.size()) +
+                     " vertices)");
         if (mode == TINYGLTF_MODE_TRIANGLES && indices.size() % 3 != 0)
             fail(what + ": index count is not a multiple of 3");
         if (mode != TINYGLTF_MODE_TRIANGLES) indices = triangulate(mode, indices);
