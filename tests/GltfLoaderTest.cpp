@@ -1285,7 +1285,6 @@ TEST_F(GltfLoader, DracoErrorsNameTheExtension)
     GltfBuilder badId = octagonScene(Encoding::Draco);
     badId.j["meshes"].back()["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]["POSITION"] = 7;
     expectLoadError(badId.writeGltf(dir_, "badid"), "no attribute 7");
-
 }
 
 // Two semantics naming one Draco attribute and one accessor (found by the

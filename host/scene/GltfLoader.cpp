@@ -913,8 +913,8 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             indices.resize(positions.size());
             for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
         }
-        // Decoded Draco indices too: POSITION may name an accessor that holds
-        // fewer points than the compressed mesh (another attribute's).
+        // Every primitive's indices, Draco's too: decodeDracoPrimitive checks
+        // them against the decoded points, this against the positions read.
         for (uint32_t i : indices)
             if (i >= positions.size())
                 fail(what + ": index " + std::to_string(i) + " out of range (" + std::to_string(positions.size()) +

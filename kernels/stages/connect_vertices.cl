@@ -33,14 +33,8 @@ INLINE void prefetch_light_paths(const RenderBuffers* b, const LaunchParams* par
     if (v >= 0)
         PREFETCH(&b->lightVertices[v], sizeof(LightVertex));
     v = light_path_ahead(b, params, i + PREFETCH_DISTANCE / 2);
-    if (v >= 0) {
-        int tri = b->lightVertices[v].triangle;
-        PREFETCH(&b->triVertices[3 * tri], 48);
-#ifdef HAS_VERTEX_NORMALS
-        PREFETCH(&b->triNormals[3 * tri], 48);
-#endif
-        PREFETCH(&b->triMaterials[tri], 4);
-    }
+    if (v >= 0)
+        prefetch_triangle(b, b->lightVertices[v].triangle);
 #endif
 }
 

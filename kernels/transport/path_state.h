@@ -83,6 +83,17 @@ INLINE void prefetch_pixel(const RenderBuffers* b, int capacity, int queue, int 
 #endif
 }
 
+/* What building a surface hit on triangle `tri` loads: its corners, their
+ * normals, its material index. */
+INLINE void prefetch_triangle(const RenderBuffers* b, int tri)
+{
+    PREFETCH(&b->triVertices[3 * tri], 48);
+#ifdef HAS_VERTEX_NORMALS
+    PREFETCH(&b->triNormals[3 * tri], 48);
+#endif
+    PREFETCH(&b->triMaterials[tri], 4);
+}
+
 INLINE void prefetch_hit_state(const RenderBuffers* b, int capacity, int queue, int i)
 {
 #ifdef HAS_PREFETCH
@@ -98,14 +109,8 @@ INLINE void prefetch_hit_state(const RenderBuffers* b, int capacity, int queue, 
         PREFETCH(&b->pathMis[slot], 16);
     }
     slot = queue_item(b->queueItems, b->queueCounters, capacity, queue, i + PREFETCH_DISTANCE);
-    if (slot >= 0) {
-        int tri = b->hitTriangle[slot];
-        PREFETCH(&b->triVertices[3 * tri], 48);
-#ifdef HAS_VERTEX_NORMALS
-        PREFETCH(&b->triNormals[3 * tri], 48);
-#endif
-        PREFETCH(&b->triMaterials[tri], 4);
-    }
+    if (slot >= 0)
+        prefetch_triangle(b, b->hitTriangle[slot]);
 #endif
 }
 
