@@ -54,8 +54,9 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
         return;
     int pixel = pathPixel[slot];
     int last = lightPathHead[pixel - params.firstLightPath];
-    if (last >= 0)
-        PREFETCH(&lightVertices[last], sizeof(LightVertex));
+    if (last < 0)
+        return; /* the light path stored no vertex */
+    PREFETCH(&lightVertices[last], sizeof(LightVertex));
     CameraVertex cv = camera_vertex(&b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return;
