@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 // The options `render` and `report` share: device, resolution, path length,
@@ -17,12 +18,15 @@ static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severa
     command->add_option("-d,--device", o.device,
                         std::string("device index from `wavevcm devices`, or a substring of its name") +
                             (severalDevices ? "; several, comma-separated, or all: they render together" : ""));
-    command->add_option("--width", o.width, "image width (default: from the camera's aspect ratio)");
-    command->add_option("--height", o.height, "image height (default 512)");
+    // 0 stands for "not given" in RenderOptions: given, it must be a size.
+    command->add_option("--width", o.width, "image width (default: from the camera's aspect ratio)")
+        ->check(CLI::Range(1, 32768));
+    command->add_option("--height", o.height, "image height (default 512)")->check(CLI::Range(1, 32768));
     command->add_option("--max-path-length", o.maxPathLength, "segments of a full path, camera segment included")
         ->capture_default_str();
     command->add_option("--seed", o.seed, "random seed")->capture_default_str();
-    command->add_option("--wavefront", o.wavefront, "path slots per wavefront (default: by device type)");
+    command->add_option("--wavefront", o.wavefront, "path slots per wavefront (default: by device type)")
+        ->check(CLI::Range(1, std::numeric_limits<int>::max()));
     command->add_option("--radius-factor", o.radiusFactor,
                         "merge radius of the first iteration, times the scene's bounding-sphere radius")
         ->capture_default_str();
@@ -87,7 +91,7 @@ static int run(int argc, char** argv, bool* failed)
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
     render->add_option("--checkpoint", r.checkpoint,
                        "write the image rendered so far every SECONDS (with mpirun: the whole job's, by rank 0)")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1, std::numeric_limits<int>::max()));
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
     render->add_flag("--profile", r.profile, "print the device time spent in each kernel");
     render->add_option("--reference", r.reference, "reference image for --error-log (same resolution)");
