@@ -91,7 +91,7 @@ static int run(int argc, char** argv, bool* failed)
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
     render->add_option("--checkpoint", r.checkpoint,
                        "write the image rendered so far every SECONDS (with mpirun: the whole job's, by rank 0)")
-        ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+        ->check(CLI::PositiveNumber);
     render->add_flag("-q,--quiet", r.quiet, "print nothing but errors and warnings");
     render->add_flag("--profile", r.profile, "print the device time spent in each kernel");
     render->add_option("--reference", r.reference, "reference image for --error-log (same resolution)");
