@@ -54,6 +54,11 @@ INLINE ShearedRay shear_ray(Ray ray)
     return s;
 }
 
+INLINE float float4_lane(float4 v, int lane)
+{
+    return lane == 0 ? v.s0 : lane == 1 ? v.s1 : lane == 2 ? v.s2 : v.s3;
+}
+
 /* The nearest hit among the packet's triangles with 0 < t < tMax, lanes
  * whose bit (1 << lane) is set in `excluded` left out: returns its lane, or
  * -1, and sets *t, *b1, *b2 (barycentrics of v1 and v2). */
@@ -116,24 +121,15 @@ INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* 
     float4 deltaT = 3.0f * (GAMMA(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * fabs(invDet);
     hit = hit && tHit < tMax && tHit > deltaT;
 
-    /* The nearest lane; on a tie the first. A loop over the stored lanes,
-     * not a chain of selects: 3-5 % more any-hit rays per second on PoCL. */
-    float lanesT[TRIANGLE_PACKET_WIDTH], lanesB1[TRIANGLE_PACKET_WIDTH], lanesB2[TRIANGLE_PACKET_WIDTH];
-    vstore4(select((float4)(INFINITY), tHit, hit), 0, lanesT);
-    float nearest = INFINITY;
-    int lane = -1;
-    for (int i = 0; i < TRIANGLE_PACKET_WIDTH; ++i)
-        if (lanesT[i] < nearest) {
-            nearest = lanesT[i];
-            lane = i;
-        }
-    if (lane < 0)
+    /* The nearest lane; on a tie the first. */
+    float4 tLane = select((float4)(INFINITY), tHit, hit);
+    float nearest = fmin(fmin(tLane.s0, tLane.s1), fmin(tLane.s2, tLane.s3));
+    if (!(nearest < tMax))
         return -1;
-    vstore4(V * invDet, 0, lanesB1);
-    vstore4(W * invDet, 0, lanesB2);
+    int lane = tLane.s0 == nearest ? 0 : tLane.s1 == nearest ? 1 : tLane.s2 == nearest ? 2 : 3;
     *t = nearest;
-    *b1 = lanesB1[lane];
-    *b2 = lanesB2[lane];
+    *b1 = float4_lane(V * invDet, lane);
+    *b2 = float4_lane(W * invDet, lane);
     return lane;
 }
 
