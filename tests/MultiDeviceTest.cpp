@@ -62,6 +62,36 @@ TEST(MultiDevice, SameDeviceTwiceGivesTheImageOfOne)
     }
 }
 
+// A CPU device as two pipelines (`--pipelines 2`, the default on PoCL with
+// two or more cores): each on its own OpenCL sub-device with its share of the
+// compute units and of the memory, together the image of the whole device.
+TEST(MultiDevice, PipelinesOnSubDevicesGiveTheImageOfOne)
+{
+    DeviceInfo device = test::devicesUnderTest()[0];
+    std::vector<DeviceInfo> pipelines = pipelineDevices(device, 2);
+    ASSERT_EQ(pipelines.size(), 2u);
+    EXPECT_EQ(pipelines[1].pipeline, 1);
+    EXPECT_EQ(pipelines[0].globalMemory, device.globalMemory / 2);
+    if (defaultPipelines(device) == 2) {
+        // Partitioned: the sub-devices hold every compute unit between them.
+        EXPECT_EQ(pipelines[0].computeUnits + pipelines[1].computeUnits, device.computeUnits);
+        EXPECT_NE(pipelines[0].device(), device.device());
+    } else {
+        std::printf("[ note ] %s has %u compute unit(s) or no sub-devices: the pipelines share it\n",
+                    device.name.c_str(), device.computeUnits);
+    }
+    EXPECT_EQ(pipelineDevices(device, 1).size(), 1u);
+    Scene scene = loadGltf(test::cornellBoxPath());
+    for (Algorithm a : {Algorithm::PathTracing, Algorithm::VertexConnectionMerging}) {
+        SCOPED_TRACE(algorithmName(a));
+        Result one = renderOn({device}, scene, a, 12, 5), two = renderOn(pipelines, scene, a, 12, 5);
+        ASSERT_EQ(two.shares.size(), 2u);
+        EXPECT_EQ(two.shares[0] + two.shares[1], 12);
+        std::printf("[ shares ] %s: %d + %d iterations\n", algorithmName(a).c_str(), two.shares[0], two.shares[1]);
+        EXPECT_LT(compareImages(two.image, one.image).relMse, 1e-10);
+    }
+}
+
 TEST(MultiDevice, PoclAndRusticlTogetherGiveTheImageOfOne)
 {
     std::vector<DeviceInfo> devices = test::devicesUnderTest();

@@ -15,6 +15,12 @@ std::string DeviceInfo::typeName() const
     return "other";
 }
 
+std::string DeviceInfo::label() const
+{
+    if (pipelines <= 1) return name;
+    return name + " (pipeline " + std::to_string(pipeline + 1) + " of " + std::to_string(pipelines) + ")";
+}
+
 static std::string trimmed(std::string s)
 {
     // Some drivers pad names with spaces or a trailing NUL.
@@ -108,6 +114,57 @@ std::vector<DeviceInfo> selectDevices(const std::vector<DeviceInfo>& devices, co
         if (comma == std::string::npos) return out;
         start = comma + 1;
     }
+}
+
+static bool partitionsByCounts(const DeviceInfo& d)
+{
+    try {
+        for (cl_device_partition_property p : d.device.getInfo<CL_DEVICE_PARTITION_PROPERTIES>())
+            if (p == CL_DEVICE_PARTITION_BY_COUNTS) return true;
+    } catch (const cl::Error&) {
+        // An OpenCL 1.1 device: no sub-devices.
+    }
+    return false;
+}
+
+int defaultPipelines(const DeviceInfo& device)
+{
+    return (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits >= 2 && partitionsByCounts(device) ? 2 : 1;
+}
+
+std::vector<DeviceInfo> pipelineDevices(const DeviceInfo& device, int pipelines)
+{
+    if (pipelines <= 1) return {device};
+    std::vector<cl::Device> subDevices;
+    if (device.computeUnits >= unsigned(pipelines) && partitionsByCounts(device)) {
+        // The compute units as evenly as they divide: 5 into 2 pipelines as 3 + 2.
+        std::vector<cl_device_partition_property> counts{CL_DEVICE_PARTITION_BY_COUNTS};
+        for (int i = 0; i < pipelines; ++i)
+            counts.push_back(cl_device_partition_property(device.computeUnits / unsigned(pipelines) +
+                                                          (unsigned(i) < device.computeUnits % unsigned(pipelines))));
+        counts.push_back(CL_DEVICE_PARTITION_BY_COUNTS_LIST_END);
+        counts.push_back(0);
+        try {
+            cl::Device(device.device).createSubDevices(counts.data(), &subDevices);
+        } catch (const cl::Error&) {
+            subDevices.clear(); // the driver declined: share the whole device
+        }
+        if (subDevices.size() != size_t(pipelines)) subDevices.clear();
+    }
+    std::vector<DeviceInfo> out;
+    for (int i = 0; i < pipelines; ++i) {
+        DeviceInfo d = device;
+        d.pipeline = i;
+        d.pipelines = pipelines;
+        d.globalMemory = device.globalMemory / uint64_t(pipelines);
+        d.maxAllocation = std::min(d.maxAllocation, d.globalMemory);
+        if (!subDevices.empty()) {
+            d.device = subDevices[size_t(i)];
+            d.computeUnits = d.device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+        }
+        out.push_back(d);
+    }
+    return out;
 }
 
 } // namespace wv

@@ -19,8 +19,13 @@ struct DeviceInfo {
     unsigned computeUnits = 0;
     uint64_t globalMemory = 0, maxAllocation = 0, localMemory = 0;
     size_t maxWorkGroupSize = 0;
+    // One of several render pipelines on `device` (pipelineDevices): then
+    // `device` is an OpenCL sub-device with its share of the compute units,
+    // or the whole device shared, and globalMemory is the pipeline's share.
+    int pipeline = 0, pipelines = 1;
 
     std::string typeName() const; // "GPU", "CPU", ...
+    std::string label() const;    // the name, and "pipeline i of n" when split
 };
 
 // Every device of every platform, skipping platforms with no devices (Mesa's
@@ -37,5 +42,18 @@ const DeviceInfo& selectDevice(const std::vector<DeviceInfo>& devices, const std
 // commas ("0,2", "pthread,rusticl"); one selector gives one device. A device
 // named twice renders with two renderers of its own.
 std::vector<DeviceInfo> selectDevices(const std::vector<DeviceInfo>& devices, const std::string& selectors);
+
+// A device as `pipelines` independent render pipelines, each rendering whole
+// iterations of its own (MultiDeviceRender), so that one pipeline's launch
+// tails and host round trips overlap the other's work. Where the device can be
+// partitioned (OpenCL sub-devices, e.g. PoCL's CPU devices), each pipeline
+// gets its own share of the compute units; elsewhere they share the device.
+// Each one's globalMemory is 1/pipelines of the device's, so every memory
+// budget a renderer derives from it leaves room for the others.
+std::vector<DeviceInfo> pipelineDevices(const DeviceInfo& device, int pipelines);
+
+// How many pipelines a render uses on `device` when not told: 2 on a CPU
+// device of 2 or more compute units that can be partitioned, else 1.
+int defaultPipelines(const DeviceInfo& device);
 
 } // namespace wv

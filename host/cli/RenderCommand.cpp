@@ -233,17 +233,26 @@ int runRender(const RenderOptions& o)
     std::string scenePath = o.scene.empty() ? defaultScenePath() : o.scene;
     Scene scene = prepareScene(o, scenePath);
     RenderSettings settings = renderSettings(o, scene);
-    std::vector<DeviceInfo> chosen = selectDevices(enumerateDevices(), o.device);
+    std::vector<DeviceInfo> selected = selectDevices(enumerateDevices(), o.device);
     std::unique_ptr<ErrorLog> errorLog;
     if (!o.errorLog.empty()) {
         if (o.reference.empty()) throw Error("--error-log needs --reference");
-        if (chosen.size() > 1) throw Error("--error-log needs a single device (-d)");
+        if (selected.size() > 1) throw Error("--error-log needs a single device (-d)");
+        if (o.pipelines > 1) throw Error("--error-log needs a single pipeline (--pipelines 1)");
         errorLog = std::make_unique<ErrorLog>(o.errorLog, readImage(o.reference), o.reference);
         if (errorLog->width() != settings.width || errorLog->height() != settings.height)
             throw Error(o.reference + " is " + std::to_string(errorLog->width()) + "x" +
                         std::to_string(errorLog->height()) + " but the render is " + std::to_string(settings.width) +
                         "x" + std::to_string(settings.height) + " (set --width/--height)");
     }
+
+    // Each selected device as its pipelines (one renderer each); the error
+    // log follows one renderer's running image, so it keeps one.
+    std::vector<DeviceInfo> chosen;
+    for (const DeviceInfo& d : selected)
+        for (const DeviceInfo& p :
+             pipelineDevices(d, o.pipelines > 0 ? o.pipelines : errorLog ? 1 : defaultPipelines(d)))
+            chosen.push_back(p);
 
     Bvh bvh = buildBvh(scene.vertices);
     std::vector<std::unique_ptr<DeviceContext>> contexts;
@@ -257,7 +266,7 @@ int runRender(const RenderOptions& o)
     for (size_t i = 0; i < render.deviceCount() && !quiet; ++i)
         std::fprintf(stderr, "wavevcm: %s, %zu triangles, %dx%d, %s on %s (%s); setup %.2f s (kernels %.2f s%s)\n",
                      scenePath.c_str(), scene.triangleCount(), settings.width, settings.height, o.algorithm.c_str(),
-                     chosen[i].name.c_str(), chosen[i].platformName.c_str(), setupSeconds,
+                     chosen[i].label().c_str(), chosen[i].platformName.c_str(), setupSeconds,
                      render.renderer(i).programBuild().seconds,
                      render.renderer(i).programBuild().fromCache                               ? ", cached"
                      : render.renderer(i).programBuild().cache == ProgramBuild::Cache::Driver ? ", driver's cache"
@@ -326,7 +335,7 @@ int runRender(const RenderOptions& o)
     const std::vector<int> rankIterations = cluster::gatherInts(render.iterations());
     const std::vector<double> rankSeconds = cluster::gatherDoubles(render.seconds());
     std::string deviceNames;
-    for (size_t i = 0; i < chosen.size(); ++i) deviceNames += (i ? "\n" : "") + chosen[i].name;
+    for (size_t i = 0; i < chosen.size(); ++i) deviceNames += (i ? "\n" : "") + chosen[i].label();
     const std::vector<std::string> rankDevices = cluster::gatherStrings(deviceNames);
     const std::vector<std::string> rankHosts = cluster::gatherStrings(cluster::hostName());
     progress.finish();
@@ -356,7 +365,7 @@ int runRender(const RenderOptions& o)
         double total = 0;
         for (const auto& [name, stats] : renderer.kernelStats()) total += stats.seconds;
         if (render.deviceCount() > 1 || ranks > 1)
-            std::fprintf(stderr, "wavevcm: on %s%s:\n", chosen[i].name.c_str(), ranks > 1 ? " (rank 0)" : "");
+            std::fprintf(stderr, "wavevcm: on %s%s:\n", chosen[i].label().c_str(), ranks > 1 ? " (rank 0)" : "");
         for (const auto& [name, stats] : renderer.kernelStats())
             std::fprintf(stderr, "wavevcm: kernel %-20s %8.3f s  %5.1f %%  %10.3g items/s\n", name.c_str(),
                          stats.seconds, 100 * stats.seconds / total, double(stats.items) / stats.seconds);
@@ -393,6 +402,7 @@ int runRender(const RenderOptions& o)
             {"scene_origin", {scene.origin[0], scene.origin[1], scene.origin[2]}},
             {"device_bytes", render.renderer(0).deviceBytes()},
             {"ranks", ranks},
+            {"pipelines", chosen.size()},
         };
         // Each device's share (several with -d 0,2 or -d all), of this process (rank 0).
         stats["devices"] = nlohmann::json::array();
@@ -400,6 +410,8 @@ int runRender(const RenderOptions& o)
             stats["devices"].push_back(
                 {{"device", chosen[i].name},
                  {"platform", chosen[i].platformName},
+                 {"pipeline", chosen[i].pipeline},
+                 {"compute_units", chosen[i].computeUnits},
                  {"iterations", render.renderer(i).iterations()},
                  {"samples_per_second",
                   double(settings.width) * settings.height * render.renderer(i).iterations() / renderSeconds}});

@@ -88,6 +88,10 @@ static int run(int argc, char** argv, bool* failed)
     render->add_option("-n,--spp", r.spp, "iterations (one jittered camera sample per pixel each); default 16");
     render->add_option("-t,--time", r.seconds, "wall-clock budget in seconds: whole iterations until it is spent");
     addSceneOptions(render, r, true);
+    render->add_option("--pipelines", r.pipelines,
+                       "independent render pipelines per device, each rendering whole iterations (default: 2 on a "
+                       "CPU device of 2 or more compute units, each on half of them; 1 elsewhere)")
+        ->check(CLI::Range(1, 256));
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
     render->add_option("--checkpoint", r.checkpoint,
                        "write the image rendered so far every SECONDS (with mpirun: the whole job's, by rank 0)")

@@ -18,6 +18,7 @@ struct RenderOptions {
     double seconds = 0;  // 0 = not given
     bool sppGiven = false, secondsGiven = false; // given on the command line (then they must be > 0)
     std::string device;
+    int pipelines = 0; // --pipelines N per device; 0 = defaultPipelines()
     int width = 0, height = 0; // 0 = from the camera
     int maxPathLength = 10;
     unsigned seed = 0;
