@@ -19,7 +19,9 @@ namespace {
 
 struct Result {
     Image image;
-    std::vector<int> shares; // iterations per device
+    std::vector<int> shares;   // iterations per device
+    std::vector<int> counts;   // the iterations each callback was given, in call order
+    Image lastRunning;         // runningImage() at the last callback
 };
 
 Result renderOn(const std::vector<DeviceInfo>& infos, const Scene& scene, Algorithm algorithm, int iterations,
@@ -40,8 +42,12 @@ Result renderOn(const std::vector<DeviceInfo>& infos, const Scene& scene, Algori
     Bvh bvh = buildBvh(scene.vertices);
     MultiDeviceRender render(devices, scene, bvh, s);
     schedule.end = iterations;
-    render.run(schedule, 0, [] { return false; }, nullptr);
-    Result r{render.image(), {}};
+    Result r;
+    render.run(schedule, 0, [] { return false; }, [&](Renderer& renderer, int done, double) {
+        r.counts.push_back(done);
+        r.lastRunning = render.runningImage(renderer);
+    });
+    r.image = render.image();
     for (size_t i = 0; i < render.deviceCount(); ++i) r.shares.push_back(render.renderer(i).iterations());
     return r;
 }
@@ -89,6 +95,12 @@ TEST(MultiDevice, PipelinesOnSubDevicesGiveTheImageOfOne)
         EXPECT_EQ(two.shares[0] + two.shares[1], 12);
         std::printf("[ shares ] %s: %d + %d iterations\n", algorithmName(a).c_str(), two.shares[0], two.shares[1]);
         EXPECT_LT(compareImages(two.image, one.image).relMse, 1e-10);
+        // The running image (--error-log, report) after the last iteration
+        // is the final one, and the callbacks counted 1, 2, …, 12.
+        EXPECT_EQ(compareImages(two.lastRunning, two.image).rmse, 0.0);
+        std::vector<int> expected(12);
+        for (int i = 0; i < 12; ++i) expected[size_t(i)] = i + 1;
+        EXPECT_EQ(two.counts, expected);
     }
 }
 

@@ -237,8 +237,6 @@ int runRender(const RenderOptions& o)
     std::unique_ptr<ErrorLog> errorLog;
     if (!o.errorLog.empty()) {
         if (o.reference.empty()) throw Error("--error-log needs --reference");
-        if (selected.size() > 1) throw Error("--error-log needs a single device (-d)");
-        if (o.pipelines > 1) throw Error("--error-log needs a single pipeline (--pipelines 1)");
         errorLog = std::make_unique<ErrorLog>(o.errorLog, readImage(o.reference), o.reference);
         if (errorLog->width() != settings.width || errorLog->height() != settings.height)
             throw Error(o.reference + " is " + std::to_string(errorLog->width()) + "x" +
@@ -246,13 +244,23 @@ int runRender(const RenderOptions& o)
                         "x" + std::to_string(settings.height) + " (set --width/--height)");
     }
 
-    // Each selected device as its pipelines (one renderer each); the error
-    // log follows one renderer's running image, so it keeps one.
+    // The job's iterations: -n counts them all, whichever rank renders them;
+    // rank r takes the global indices r, r + K, r + 2K, … (so the random
+    // numbers and merge radii are those of one process rendering them all).
+    // -t is the job's budget: every rank renders until it is spent, from the
+    // moment all of them are ready.
+    const int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
+
+    // Each selected device as its pipelines (one renderer each); a job of
+    // under 4 iterations per rank keeps one, since an iteration is never
+    // split and one on half of the cores takes ~1.6x as long as on all.
+    auto pipelinesOf = [&](const DeviceInfo& d) {
+        if (o.pipelines > 0) return o.pipelines;
+        return spp > 0 && spp < 4 * ranks ? 1 : defaultPipelines(d);
+    };
     std::vector<DeviceInfo> chosen;
     for (const DeviceInfo& d : selected)
-        for (const DeviceInfo& p :
-             pipelineDevices(d, o.pipelines > 0 ? o.pipelines : errorLog ? 1 : defaultPipelines(d)))
-            chosen.push_back(p);
+        for (const DeviceInfo& p : pipelineDevices(d, pipelinesOf(d))) chosen.push_back(p);
 
     Bvh bvh = buildBvh(scene.vertices);
     std::vector<std::unique_ptr<DeviceContext>> contexts;
@@ -275,19 +283,13 @@ int runRender(const RenderOptions& o)
         std::fprintf(stderr, "wavevcm: MPI job of %d ranks; rank 0 on %s writes the outputs\n", ranks,
                      cluster::hostName().c_str());
 
-    // The job's iterations: -n counts them all, whichever rank renders them;
-    // rank r takes the global indices r, r + K, r + 2K, … (so the random
-    // numbers and merge radii are those of one process rendering them all).
-    // -t is the job's budget: every rank renders until it is spent, from the
-    // moment all of them are ready.
-    const int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
     const IterationSchedule schedule{rank, ranks, spp};
     ProgressBar progress(!quiet && ::isatty(STDERR_FILENO), spp, o.seconds);
     std::vector<int> iterationsByRank(size_t(ranks), 0);
     // Render time excludes the error log's work (reading the image back and
     // comparing it), so the log's times are what the render alone took.
     auto iterationDone = [&](Renderer& renderer, int iterations, double seconds) {
-        if (errorLog) errorLog->add(seconds, iterations, renderer.image());
+        if (errorLog) errorLog->add(seconds, iterations, render.runningImage(renderer));
         cluster::reportProgress(iterations);
         if (!root) return;
         cluster::readProgress(iterationsByRank);

@@ -11,13 +11,18 @@
 #include <limits>
 #include <sstream>
 
-// The options `render` and `report` share: device, resolution, path length,
-// seed, merge radius, camera and background.
+// The options `render` and `report` share: device, pipelines, resolution,
+// path length, seed, merge radius, camera and background.
 static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severalDevices)
 {
     command->add_option("-d,--device", o.device,
                         std::string("device index from `wavevcm devices`, or a substring of its name") +
                             (severalDevices ? "; several, comma-separated, or all: they render together" : ""));
+    command->add_option("--pipelines", o.pipelines,
+                        "independent render pipelines per device, each rendering whole iterations (default: 2 on a "
+                        "CPU device of 2 or more compute units, each on half of them; 1 elsewhere and for render -n "
+                        "under 4)")
+        ->check(CLI::Range(1, 256));
     // 0 stands for "not given" in RenderOptions: given, it must be a size.
     command->add_option("--width", o.width, "image width (default: from the camera's aspect ratio)")
         ->check(CLI::Range(1, 32768));
@@ -88,10 +93,6 @@ static int run(int argc, char** argv, bool* failed)
     render->add_option("-n,--spp", r.spp, "iterations (one jittered camera sample per pixel each); default 16");
     render->add_option("-t,--time", r.seconds, "wall-clock budget in seconds: whole iterations until it is spent");
     addSceneOptions(render, r, true);
-    render->add_option("--pipelines", r.pipelines,
-                       "independent render pipelines per device, each rendering whole iterations (default: 2 on a "
-                       "CPU device of 2 or more compute units, each on half of them; 1 elsewhere)")
-        ->check(CLI::Range(1, 256));
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");
     render->add_option("--checkpoint", r.checkpoint,
                        "write the image rendered so far every SECONDS (with mpirun: the whole job's, by rank 0)")

@@ -120,6 +120,23 @@ Image MultiDeviceRender::image()
     return weightedMean(images, counts);
 }
 
+Image MultiDeviceRender::runningImage(Renderer& finished)
+{
+    if (renderers_.size() == 1) return finished.image();
+    Image now = finished.image();
+    lastImages_.resize(renderers_.size());
+    lastIterations_.resize(renderers_.size(), 0);
+    for (size_t i = 0; i < renderers_.size(); ++i) {
+        if (renderers_[i].get() == &finished) {
+            lastImages_[i] = now;
+            lastIterations_[i] = finished.iterations();
+        } else if (lastIterations_[i] == 0) {
+            lastImages_[i] = Image(now.width, now.height); // weight 0 until it finishes one
+        }
+    }
+    return weightedMean(lastImages_, lastIterations_);
+}
+
 std::array<Image, 3> MultiDeviceRender::techniqueImages()
 {
     if (renderers_.size() == 1) return renderers_[0]->techniqueImages();

@@ -46,6 +46,12 @@ public:
     void run(const IterationSchedule& schedule, double seconds, const std::function<bool()>& stop,
              const IterationDone& done, const std::function<bool()>& abandon = nullptr);
 
+    // Inside an IterationDone callback: the image of every iteration
+    // finished so far, from `finished`'s image now (its iteration is done)
+    // and each other renderer's as it was when that one last finished an
+    // iteration (it may be in the middle of one now). Reads back one image.
+    Image runningImage(Renderer& finished);
+
     int iterations() const;
     double seconds() const { return seconds_; } // render time of every run() so far
     Image image();
@@ -61,6 +67,10 @@ private:
     std::vector<DeviceContext*> devices_;
     std::vector<std::unique_ptr<Renderer>> renderers_;
     double seconds_ = 0;
+    // runningImage(): each renderer's image and iterations when it last
+    // finished one.
+    std::vector<Image> lastImages_;
+    std::vector<int> lastIterations_;
 };
 
 } // namespace wv

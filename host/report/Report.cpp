@@ -5,7 +5,7 @@
 #include "cl/Devices.h"
 #include "image/Image.h"
 #include "image/TechniqueImages.h"
-#include "render/Renderer.h"
+#include "render/MultiDeviceRender.h"
 
 #include <nlohmann/json.hpp>
 
@@ -17,6 +17,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -27,11 +28,6 @@ using json = nlohmann::json;
 
 namespace wv {
 namespace {
-
-double since(std::chrono::steady_clock::time_point t)
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 // One line on stderr over the whole report: the fraction of its render time
 // spent, and what it is rendering.
@@ -379,7 +375,18 @@ void writeReport(const ReportOptions& o)
     if (!fs::is_directory(o.outputDir)) throw Error(o.outputDir + ": cannot create the report directory");
 
     std::vector<DeviceInfo> devices = enumerateDevices();
-    DeviceContext device(selectDevice(devices, o.render.device));
+    // The device as render uses it: its pipelines, each rendering whole
+    // iterations, the running image of all of them logged after each.
+    const DeviceInfo selected = selectDevice(devices, o.render.device);
+    std::vector<std::unique_ptr<DeviceContext>> contexts;
+    std::vector<DeviceContext*> pipelines;
+    for (const DeviceInfo& d :
+         pipelineDevices(selected, o.render.pipelines > 0 ? o.render.pipelines : defaultPipelines(selected))) {
+        contexts.push_back(std::make_unique<DeviceContext>(d));
+        pipelines.push_back(contexts.back().get());
+    }
+    const std::string deviceName =
+        selected.name + (pipelines.size() > 1 ? " (" + std::to_string(pipelines.size()) + " pipelines)" : "");
     const double referenceSeconds = o.referenceSeconds > 0 ? o.referenceSeconds : 6 * o.seconds;
     const std::string baseline =
         std::find(o.algorithms.begin(), o.algorithms.end(), "pt") != o.algorithms.end() ? "pt" : o.algorithms[0];
@@ -406,29 +413,28 @@ void writeReport(const ReportOptions& o)
         result.height = base.height;
         Bvh bvh = buildBvh(scene.vertices);
 
-        // Renders `settings` for `seconds` of render time, calling `after`
-        // after each iteration with the time so far (its own work untimed).
-        // A throwaway renderer runs one iteration first: PoCL compiles each
-        // kernel's work-group function at its first launch (seconds, cold),
-        // which would otherwise be charged to whichever render came first.
+        // Renders `settings` for `seconds` of render time (whole iterations),
+        // calling `after` after each iteration with the image, iterations and
+        // time so far (its own work untimed). A throwaway render runs one
+        // iteration per pipeline first: PoCL compiles each kernel's work-group
+        // function at its first launch (seconds, cold), which would otherwise
+        // be charged to whichever render came first.
         auto renderFor = [&](RenderSettings settings, double seconds, const std::string& what, auto after) {
             progress.update(done, result.name + ": " + what + " (warming up)");
-            Renderer(device, scene, bvh, settings).iterate();
-            Renderer renderer(device, scene, bvh, settings);
-            double rendered = 0;
-            while (rendered < seconds) {
-                auto start = std::chrono::steady_clock::now();
-                renderer.iterate();
-                rendered += since(start);
-                after(renderer, rendered);
-                progress.update(done + std::min(rendered, seconds), result.name + ": " + what);
-            }
+            MultiDeviceRender(pipelines, scene, bvh, settings)
+                .run(IterationSchedule{0, 1, int(pipelines.size())}, 0, [] { return false; }, nullptr);
+            auto render = std::make_unique<MultiDeviceRender>(pipelines, scene, bvh, settings);
+            render->run(IterationSchedule{}, seconds, [] { return false; },
+                        [&](Renderer& finished, int iterations, double rendered) {
+                            after(render->runningImage(finished), iterations, rendered);
+                            progress.update(done + std::min(rendered, seconds), result.name + ": " + what);
+                        });
             done += seconds;
-            if (renderer.nonFiniteCount() > 0)
+            if (render->nonFiniteCount() > 0)
                 std::fprintf(stderr, "\nwavevcm: warning: %s, %s: %llu NaN or Inf samples were dropped\n",
                              result.path.c_str(), what.c_str(),
-                             static_cast<unsigned long long>(renderer.nonFiniteCount()));
-            return std::make_pair(renderer.image(), std::make_pair(renderer.iterations(), rendered));
+                             static_cast<unsigned long long>(render->nonFiniteCount()));
+            return render;
         };
 
         Image reference;
@@ -443,9 +449,9 @@ void writeReport(const ReportOptions& o)
             RenderSettings settings = base;
             settings.algorithm = Algorithm::VertexConnectionMerging;
             settings.seed = base.seed + 0x9E3779B9u; // other samples than the renders it measures
-            auto r = renderFor(settings, referenceSeconds, "reference", [](Renderer&, double) {});
-            reference = r.first;
-            result.reference = "vcm, " + std::to_string(r.second.first) + " iterations (" + number(r.second.second) +
+            auto r = renderFor(settings, referenceSeconds, "reference", [](const Image&, int, double) {});
+            reference = r->image();
+            result.reference = "vcm, " + std::to_string(r->iterations()) + " iterations (" + number(r->seconds()) +
                                " s), another seed";
         }
         writeImage((dir / "reference.exr").string(), reference);
@@ -457,21 +463,20 @@ void writeReport(const ReportOptions& o)
             RenderSettings settings = base;
             settings.algorithm = parseAlgorithm(name);
             settings.techniques = name == "vcm";
-            std::array<Image, 3> families;
-            auto r = renderFor(settings, o.seconds, name, [&](Renderer& renderer, double rendered) {
-                ImageDifference d = compareImages(renderer.image(), reference);
-                a.log.push_back({rendered, renderer.iterations(), d.rmse, d.relMse});
-                if (settings.techniques && rendered >= o.seconds) families = renderer.techniqueImages();
+            auto r = renderFor(settings, o.seconds, name, [&](const Image& image, int iterations, double rendered) {
+                ImageDifference d = compareImages(image, reference);
+                a.log.push_back({rendered, iterations, d.rmse, d.relMse});
             });
-            a.image = r.first;
-            a.iterations = r.second.first;
-            a.seconds = r.second.second;
+            a.image = r->image();
+            a.iterations = r->iterations();
+            a.seconds = r->seconds();
             a.samplesPerSecond = double(base.width) * base.height * a.iterations / a.seconds;
             a.error = compareImages(a.image, reference);
             a.slope = fittedSlope(a.log, o.seconds);
             writeImage((dir / (name + ".exr")).string(), a.image);
             writeImage((dir / (name + ".png")).string(), a.image);
             if (settings.techniques) {
+                std::array<Image, 3> families = r->techniqueImages();
                 writeTechniqueImages((dir / "vcm").string(), families);
                 const char* familyNames[3] = {"unidirectional", "connection", "merging"};
                 for (int f = 0; f < 3; ++f) writeImage((dir / ("vcm." + std::string(familyNames[f]) + ".png")).string(), families[f]);
@@ -494,7 +499,7 @@ void writeReport(const ReportOptions& o)
         for (AlgorithmResult& a : result.algorithms) a.image = Image(); // the files have them
         results.push_back(std::move(result));
         progress.finish();
-        writePage(o, results, device.info.name, baseline, results.size() == o.scenes.size());
+        writePage(o, results, deviceName, baseline, results.size() == o.scenes.size());
         if (!o.quiet) {
             std::fprintf(stderr, "wavevcm: %s:", results.back().path.c_str());
             for (const AlgorithmResult& a : results.back().algorithms)
