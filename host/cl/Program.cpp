@@ -2,14 +2,14 @@
 
 #include "../Error.h"
 
-#include <OpenImageIO/hash.h>
-
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <string_view>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -128,6 +128,10 @@ struct CacheHeader {
 };
 static const char kCacheMagic[8] = {'W', 'V', 'C', 'M', 'B', 'I', 'N', '1'};
 
+// The cache's names and integrity checks: the standard library's string hash
+// (the same values for every run of one build, which is all a cache needs).
+static uint64_t hash64(const char* data, size_t size) { return std::hash<std::string_view>{}({data, size}); }
+
 // Loads a cached binary; any failure (missing, truncated, corrupt, rejected by
 // the driver) means "not cached" and the caller builds from source.
 static bool loadCached(const fs::path& file, const cl::Context& context, const DeviceInfo& device,
@@ -142,7 +146,7 @@ static bool loadCached(const fs::path& file, const cl::Context& context, const D
     const char* binary = bytes.data() + sizeof header;
     if (std::memcmp(header.magic, kCacheMagic, sizeof kCacheMagic) != 0 || header.size == 0 ||
         header.size != bytes.size() - sizeof header ||
-        header.fingerprint != OIIO::farmhash::Fingerprint64(binary, header.size))
+        header.fingerprint != hash64(binary, header.size))
         return false;
     try {
         cl::Program::Binaries binaries{std::vector<unsigned char>(binary, binary + header.size)};
@@ -170,7 +174,7 @@ static bool storeCached(const fs::path& file, const cl::Program& program)
     CacheHeader header;
     std::memcpy(header.magic, kCacheMagic, sizeof kCacheMagic);
     header.size = binary.size();
-    header.fingerprint = OIIO::farmhash::Fingerprint64(reinterpret_cast<const char*>(binary.data()), binary.size());
+    header.fingerprint = hash64(reinterpret_cast<const char*>(binary.data()), binary.size());
     std::error_code ec;
     fs::create_directories(file.parent_path(), ec);
     // Write then rename, so a concurrent or interrupted run never sees half a file.
@@ -229,7 +233,7 @@ ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, 
                           device.version + '\n' + device.driverVersion + '\n' + options + '\n' + source;
         char name[32];
         std::snprintf(name, sizeof name, "%016llx.bin",
-                      static_cast<unsigned long long>(OIIO::farmhash::Fingerprint64(key.data(), key.size())));
+                      static_cast<unsigned long long>(hash64(key.data(), key.size())));
         result.cacheFile = (dir / name).string();
         if (loadCached(result.cacheFile, context, device, options, &result.program)) {
             result.cache = ProgramBuild::Cache::Wavevcm;

@@ -217,10 +217,8 @@ int runRender(const RenderOptions& o)
     validateRenderOptions(o);
     parseAlgorithm(o.algorithm); // before anything else, as the other options
     // Check the output's format before the render, not after it.
-    std::string ext = fs::path(o.output).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".exr" && ext != ".hdr" && ext != ".pfm" && ext != ".png" && ext != ".jpg" && ext != ".jpeg")
-        throw Error(o.output + ": unsupported output format (use .exr, .hdr, .pfm, .png or .jpg)");
+    checkOutputFormat(o.output);
+    if (!o.aov.empty() && !haveImageLibrary()) checkOutputFormat(o.output + ".techniques.exr");
     if (ranks > 1 && !o.errorLog.empty())
         throw Error("--error-log needs a single process, not an MPI job of " + std::to_string(ranks) + " ranks");
     if (root) { // rank 0 writes every file; the others none

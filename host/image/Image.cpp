@@ -2,10 +2,12 @@
 
 #include "../Error.h"
 
+#ifdef WAVEVCM_HAVE_OIIO
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -77,14 +79,49 @@ static bool writePfm(const std::string& path, const Image& image)
     return bool(out);
 }
 
-void writeImage(const std::string& path, const Image& image)
+bool haveImageLibrary()
+{
+#ifdef WAVEVCM_HAVE_OIIO
+    return true;
+#else
+    return false;
+#endif
+}
+
+#ifndef WAVEVCM_HAVE_OIIO
+[[noreturn]] static void noImageLibrary(const std::string& path)
+{
+    throw Error(path + ": this wavevcm was built without OpenImageIO (-DWAVEVCM_IMAGE_IO=OFF): it writes .pfm "
+                       "images only and reads none");
+}
+#endif
+
+void checkOutputFormat(const std::string& path)
 {
     std::string ext = extensionOf(path);
-    bool eightBit = ext == ".png" || ext == ".jpg" || ext == ".jpeg";
-    bool floatFormat = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
-    if (!eightBit && !floatFormat)
-        throw Error(path + ": unsupported output format '" + ext + "' (use .exr, .hdr, .pfm, .png or .jpg)");
+    if (ext != ".exr" && ext != ".hdr" && ext != ".pfm" && ext != ".png" && ext != ".jpg" && ext != ".jpeg")
+        throw Error(path + ": unsupported output format (use .exr, .hdr, .pfm, .png or .jpg)");
+#ifndef WAVEVCM_HAVE_OIIO
+    if (ext != ".pfm") noImageLibrary(path);
+#endif
+}
 
+void writeImage(const std::string& path, const Image& image)
+{
+    checkOutputFormat(path);
+    std::string ext = extensionOf(path);
+    std::filesystem::path tmp = partialPath(path);
+    if (ext == ".pfm") {
+        if (!writePfm(tmp.string(), image)) {
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            throw Error(path + ": cannot write image");
+        }
+        commitPartial(tmp, path);
+        return;
+    }
+#ifdef WAVEVCM_HAVE_OIIO
+    bool eightBit = ext == ".png" || ext == ".jpg" || ext == ".jpeg";
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
     OIIO::ImageBuf buf(spec, const_cast<float*>(image.rgb.data()));
     OIIO::ImageBuf out = buf;
@@ -102,21 +139,22 @@ void writeImage(const std::string& path, const Image& image)
         out.specmod().channelnames = {"R", "G", "B", "A"};
         out.specmod().alpha_channel = 3;
     }
-    std::filesystem::path tmp = partialPath(path);
-    bool written = ext == ".pfm" ? writePfm(tmp.string(), image)
-                                 : out.write(tmp.string(), eightBit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-    if (!written) {
+    if (!out.write(tmp.string(), eightBit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT)) {
         std::error_code ec;
         std::filesystem::remove(tmp, ec);
         std::string why = out.geterror();
         throw Error(path + ": cannot write image" + (why.empty() ? "" : ": " + why));
     }
     commitPartial(tmp, path);
+#endif
 }
 
 void writeExrLayers(const std::string& path, const std::vector<std::string>& names, const std::vector<Image>& images)
 {
     if (images.empty() || names.size() != images.size()) throw Error(path + ": no layers to write");
+#ifndef WAVEVCM_HAVE_OIIO
+    noImageLibrary(path);
+#else
     int w = images[0].width, h = images[0].height, channels = int(3 * images.size());
     OIIO::ImageSpec spec(w, h, channels, OIIO::TypeDesc::FLOAT);
     spec.channelnames.clear();
@@ -134,11 +172,15 @@ void writeExrLayers(const std::string& path, const std::vector<std::string>& nam
         throw Error(path + ": cannot write image: " + buf.geterror());
     }
     commitPartial(tmp, path);
+#endif
 }
 
 Image readImage(const std::string& path)
 {
     if (!std::filesystem::exists(path)) throw Error(path + ": no such file");
+#ifndef WAVEVCM_HAVE_OIIO
+    noImageLibrary(path);
+#else
     OIIO::ImageBuf buf(path);
     if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw Error(path + ": cannot read image: " + buf.geterror());
     const OIIO::ImageSpec& spec = buf.spec();
@@ -150,6 +192,7 @@ Image readImage(const std::string& path)
     for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
         for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = pixels[p * channels + std::min(c, channels - 1)];
     return image;
+#endif
 }
 
 Image decodeImage(const unsigned char* data, size_t size, const std::string& name)
@@ -159,6 +202,9 @@ Image decodeImage(const unsigned char* data, size_t size, const std::string& nam
     if (size >= 8 && std::memcmp(data, "\x89PNG\r\n\x1a\n", 8) == 0) format = "image.png";
     if (size >= 3 && data[0] == 0xFF && data[1] == 0xD8 && data[2] == 0xFF) format = "image.jpg";
     if (!format) throw Error(name + ": not a PNG or JPEG image");
+#ifndef WAVEVCM_HAVE_OIIO
+    noImageLibrary(name);
+#else
     OIIO::Filesystem::IOMemReader memory(const_cast<unsigned char*>(data), size);
     // Colour as stored: glTF's RGBA is not premultiplied, and OpenImageIO
     // would otherwise multiply colour by alpha on reading.
@@ -182,6 +228,7 @@ Image decodeImage(const unsigned char* data, size_t size, const std::string& nam
         for (size_t p = 0; p < image.alpha.size(); ++p) image.alpha[p] = pixels[p * channels + size_t(channels - 1)];
     }
     return image;
+#endif
 }
 
 void srgbToLinear(Image& image)

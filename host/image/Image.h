@@ -1,5 +1,7 @@
 // RGB float images: reading and writing through OpenImageIO, and the error
-// metrics of `wavevcm compare`.
+// metrics of `wavevcm compare`. A build without OpenImageIO
+// (-DWAVEVCM_IMAGE_IO=OFF, for machines that lack it: the GPU kit) writes
+// .pfm only and reads nothing; the other calls throw wv::Error saying so.
 #pragma once
 
 #include <string>
@@ -20,6 +22,13 @@ struct Image {
 // (8-bit, sRGB-encoded); .png and .exr with the alpha channel if the image has one. Written to a temporary name beside `path` and renamed,
 // so a failed or interrupted write never leaves a partial file.
 void writeImage(const std::string& path, const Image& image);
+
+// Throws wv::Error naming `path` unless writeImage can write its format:
+// checked before a render, as checkWritable.
+void checkOutputFormat(const std::string& path);
+
+// Whether this build reads and writes images through OpenImageIO.
+bool haveImageLibrary();
 
 // One OpenEXR file (32-bit float) with each image as a layer of channels
 // "<name>.R", "<name>.G", "<name>.B". Same temporary-name rule as writeImage.

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Here, after scripts/gpu_kit_run.sh ran on a GPU: its figures as Markdown
+# tables, and its images against this machine's PoCL renders of the same
+# iterations (same seed, 16 iterations at 128 x 128, build/wavevcm):
+#   scripts/gpu_kit_compare.sh DIR   (DIR: the run's files, results.tar.gz and bench-*.json)
+# Per scene and algorithm: relMSE of the GPU's image against PoCL's, and of
+# PoCL's image with another seed against it (the noise of 16 iterations).
+# The GPU draws the same samples as PoCL with other float rounding, so its
+# relMSE must be far below the noise: the table flags a ratio over 0.05 (the
+# threshold of MultiDevice.PoclAndRusticlTogetherGiveTheImageOfOne).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+dir=${1:?usage: scripts/gpu_kit_compare.sh DIR}
+device=${DEVICE:-pthread}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+tar -C "$work" -xzf "$dir/results.tar.gz"
+py=/usr/bin/python3
+
+echo "### Speed on the GPU (512 x 512, render -t, from --stats)"
+echo
+echo "| scene | algorithm | iterations/s | samples/s | rays/s | kernel build s |"
+echo "| --- | --- | --- | --- | --- | --- |"
+for f in "$work"/stats/*.json; do
+  name=$(basename "$f" .json)
+  $py - "$f" "$name" <<'EOF'
+import json, sys
+s = json.load(open(sys.argv[1])); scene, alg = sys.argv[2].rsplit("-", 1)
+print("| %s | `%s` | %.3g | %.3g | %.3g | %.2f |" % (scene, alg, s["iterations"] / s["render_seconds"],
+      s["samples_per_second"], s["rays_per_second"], s["kernel_build_seconds"]))
+EOF
+done
+
+echo
+echo "### Ray casting on the GPU (wavevcm_bench, 262,144 rays)"
+echo
+echo "| scene | benchmark | M rays/s |"
+echo "| --- | --- | --- |"
+for f in "$dir"/bench-rays-*.json; do
+  [ -f "$f" ] || continue
+  $py - "$f" <<'EOF'
+import json, os, sys
+b = json.load(open(sys.argv[1]))
+scene = os.path.basename(sys.argv[1])[len("bench-rays-"):-len(".json")]
+for r in b["benchmarks"]:
+    print("| %s | %s | %.1f |" % (scene, r["name"], r.get("items_per_second", 0) / 1e6))
+EOF
+done
+
+echo
+echo "### GPU images against PoCL ($device), 16 iterations at 128 x 128"
+echo
+echo "| scene | algorithm | relMSE GPU vs PoCL | relMSE other seed vs PoCL | ratio |"
+echo "| --- | --- | --- | --- | --- |"
+relmse() { build/wavevcm compare "$1" "$2" | awk '$1 == "relmse" {print $2}'; }
+for f in "$work"/images/*.pfm; do
+  name=$(basename "$f" .pfm)
+  scene=${name%-*} alg=${name##*-}
+  args=(render "scenes/$scene.gltf" -a "$alg" -d "$device" -n 16 --width 128 --height 128 -q)
+  build/wavevcm "${args[@]}" -o "$work/pocl.exr"
+  build/wavevcm "${args[@]}" --seed 1 -o "$work/other.exr"
+  gpu=$(relmse "$f" "$work/pocl.exr") noise=$(relmse "$work/other.exr" "$work/pocl.exr")
+  $py -c "
+g, n = $gpu, $noise
+r = g / n if n > 0 else float('inf')
+print('| $scene | \`$alg\` | %.3g | %.3g | %.3g%s |' % (g, n, r, '' if r < 0.05 else ' (over 0.05)'))"
+done

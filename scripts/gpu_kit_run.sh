@@ -1,0 +1,115 @@
+#!/usr/bin/env bash
+# Runs on a GPU machine from a copy of this tree with gpu-kit/ beside it
+# (scripts/gpu_kit.sh builds it here; the device tool carries it there):
+#   run(command="bash scripts/gpu_kit_run.sh", carry=["gpu-kit"], timeout_s=540)
+# In order, each step cut short when the time budget (KIT_BUDGET seconds,
+# default 450) runs out, so that one call answers as much as it can:
+#   0. the OpenCL driver: NVIDIA's ICD library found (else it stops there),
+#      `wavevcm devices`;
+#   1. speed: every algorithm on the Cornell box and the caustics scene at
+#      512 x 512 for KIT_SECONDS (default 5) with --profile and --stats;
+#   2. ray casting: wavevcm_bench's extend/connect benchmarks on the Cornell
+#      box and the 130K- and 1M-triangle scenes (made by scripts/make_scenes.py),
+#      and its per-kernel benchmarks;
+#   3. images: every algorithm, 16 iterations at 128 x 128, as .pfm, for
+#      scripts/gpu_kit_compare.sh to compare with PoCL's here;
+#   4. correctness on the GPU: the GoogleTest suites that need no image files.
+# Writes under $OUT (else /tmp/gpu-kit-out): log.txt, bench-*.json,
+# gtest.xml, results.tar.gz (the images and --stats files).
+# KIT_DEVICE (default NVIDIA) selects the device; KIT_ICD names an OpenCL
+# driver library to load instead of searching for NVIDIA's (checks here:
+# KIT_ICD=/usr/lib/x86_64-linux-gnu/libpocl.so.2 KIT_DEVICE=pthread).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+kit=$root/gpu-kit
+out=${OUT:-/tmp/gpu-kit-out}
+mkdir -p "$out"
+exec > >(tee "$out/log.txt") 2>&1
+deadline=$((SECONDS + ${KIT_BUDGET:-450}))
+seconds=${KIT_SECONDS:-5}
+device=${KIT_DEVICE:-NVIDIA}
+left() { echo $((deadline - SECONDS)); }
+# Runs "$@" with what is left of the budget (at least $1 seconds needed).
+step() {
+  local need=$1; shift
+  if [ "$(left)" -lt "$need" ]; then echo "gpu_kit_run: skipped (budget): $*"; return 1; fi
+  timeout --kill-after=5 "$(left)" "$@"
+  local rc=$?
+  [ $rc -eq 124 ] && echo "gpu_kit_run: timed out: $*"
+  return $rc
+}
+
+[ -x "$kit/bin/wavevcm" ] || { echo "gpu_kit_run: no $kit/bin/wavevcm: run scripts/gpu_kit.sh and carry gpu-kit"; exit 1; }
+echo "gpu_kit_run: kit of $(tr '\n' ' ' < "$kit/commit"); $(uname -m), $(nproc) cores; budget $(left) s"
+export LD_LIBRARY_PATH="$kit/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+export WAVEVCM_CACHE_DIR=/tmp/wavevcm-cache
+# The binaries look for kernels, scenes and test data under the path they were
+# built in: point it at this copy.
+src=$(cat "$kit/source-dir")
+if [ "$src" != "$root" ] && [ ! -e "$src" ]; then mkdir -p "$(dirname "$src")" && ln -s "$root" "$src"; fi
+[ -d "$src/kernels" ] || { echo "gpu_kit_run: cannot reach the sources at $src"; exit 1; }
+
+# 0. The driver. ocl-icd loads the libraries OCL_ICD_FILENAMES names.
+if [ -n "${KIT_ICD:-}" ]; then
+  export OCL_ICD_FILENAMES=$KIT_ICD
+else
+  command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
+  icd=$(find /usr/local/nvidia /usr/lib /usr/lib64 /usr/local/lib /lib -name 'libnvidia-opencl.so*' 2>/dev/null |
+        sort | head -1)
+  if [ -z "$icd" ]; then
+    echo "gpu_kit_run: no libnvidia-opencl.so here: NVIDIA's OpenCL driver is not installed. What there is:"
+    ls /etc/OpenCL/vendors 2>/dev/null
+    ls /usr/local/nvidia/lib64 /usr/local/nvidia/lib 2>/dev/null | head -50
+    exit 2
+  fi
+  echo "gpu_kit_run: OpenCL driver $icd"
+  export OCL_ICD_FILENAMES=$icd
+fi
+step 30 "$kit/bin/wavevcm" devices || { echo "gpu_kit_run: no OpenCL device"; exit 2; }
+
+work=/tmp/gpu-kit-work
+rm -rf "$work"
+mkdir -p "$work/stats" "$work/images"
+scenes="cornell-box caustics"
+algorithms="pt lt bpt ppm bpm vcm"
+
+# 1. Speed (the first run of each program builds it; the setup line says how long).
+echo "== 1. speed: ${seconds} s each at 512 x 512 on '$device'"
+for scene in $scenes; do
+  for alg in $algorithms; do
+    step $((seconds + 20)) "$kit/bin/wavevcm" render "scenes/$scene.gltf" -a "$alg" -d "$device" -t "$seconds" \
+      --profile --stats "$work/stats/$scene-$alg.json" -o "$work/speed.pfm"
+  done
+done
+
+# 2. Ray casting and kernels.
+echo "== 2. wavevcm_bench"
+python3 scripts/make_scenes.py cornell-box-130k -d "$work/bench-scenes" >/dev/null &&
+  step 60 python3 scripts/make_scenes.py displaced-1m -d "$work/bench-scenes" >/dev/null
+for scene in scenes/cornell-box.gltf "$work/bench-scenes/cornell-box-130k.gltf" "$work/bench-scenes/displaced-1m.gltf"; do
+  [ -f "$scene" ] || continue
+  WAVEVCM_BENCH_SCENE=$scene WAVEVCM_BENCH_DEVICE=$device step 40 "$kit/bin/wavevcm_bench" \
+    --benchmark_filter='BM_(Extend|Connect)(Coherent|Incoherent)/262144/' --benchmark_min_time=0.2 \
+    --benchmark_out="$out/bench-rays-$(basename "$scene" .gltf).json" --benchmark_out_format=json
+done
+WAVEVCM_BENCH_DEVICE=$device step 60 "$kit/bin/wavevcm_bench" --benchmark_filter='BM_Kernel_.*/65536' \
+  --benchmark_min_time=0.1 --benchmark_out="$out/bench-kernels.json" --benchmark_out_format=json
+
+# 3. Images for the comparison with PoCL (scripts/gpu_kit_compare.sh).
+echo "== 3. images: 16 iterations at 128 x 128"
+for scene in $scenes; do
+  for alg in $algorithms; do
+    step 15 "$kit/bin/wavevcm" render "scenes/$scene.gltf" -a "$alg" -d "$device" -n 16 --width 128 --height 128 -q \
+      -o "$work/images/$scene-$alg.pfm"
+  done
+done
+tar -C "$work" -czf "$out/results.tar.gz" stats images
+
+# 4. Correctness on the GPU: the suites that read or write no image files.
+echo "== 4. tests"
+suites='Bvh.*:HashGrid.*:Sampler.*:KernelInterface.*:KernelSources.*:ProgramBuild.*:EyeLight.*:PathTracer.*'
+suites+=':Bidirectional.*:VertexMerging.*:Mis.*:BsdfMaterials.*:Bsdf.*:MultiDevice.*:DoubleSidedEmitter.*:HardCases.*'
+suites+='-PathTracer.EveryBundledSceneRendersFinite' # textured-room's environment map is an image
+step 60 "$kit/bin/wavevcm_tests" --gtest_filter="$suites" --gtest_output="xml:$out/gtest.xml" --gtest_brief=1
+echo "gpu_kit_run: done, $(left) s of the budget left"
