@@ -28,6 +28,12 @@ done | sort -u | while read -r lib; do
     *) cp -L "$lib" "$kit/lib/" ;;
   esac
 done
+# Debian 12's C++ runtime, for a machine whose own is older (gpu_kit_run.sh
+# uses it only then: a newer one there may be what the driver needs).
+mkdir -p "$kit/lib-compat"
+for lib in libstdc++.so.6 libgcc_s.so.1; do
+  cp -L "$(ldd "$kit/bin/wavevcm" | awk -v l="$lib" '$1 == l {print $3}')" "$kit/lib-compat/"
+done
 # The binaries find kernels, scenes and test data under the source path
 # compiled into them; gpu_kit_run.sh links it to the tree's copy there.
 echo "$root" > "$kit/source-dir"

@@ -8,13 +8,18 @@
 # The GPU draws the same samples as PoCL with other float rounding, so its
 # relMSE must be far below the noise: the table flags a ratio over 0.05 (the
 # threshold of MultiDevice.PoclAndRusticlTogetherGiveTheImageOfOne).
-set -euo pipefail
+set -uo pipefail
+shopt -s nullglob # a cut-short run may have left some of them out
 cd "$(dirname "$0")/.."
 dir=${1:?usage: scripts/gpu_kit_compare.sh DIR}
 device=${DEVICE:-pthread}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-tar -C "$work" -xzf "$dir/results.tar.gz"
+if [ -f "$dir/results.tar.gz" ]; then
+  tar -C "$work" -xzf "$dir/results.tar.gz"
+else
+  echo "(no results.tar.gz in $dir: no speed figures or images)"
+fi
 py=/usr/bin/python3
 
 echo "### Speed on the GPU (512 x 512, render -t, from --stats)"
@@ -60,6 +65,7 @@ for f in "$work"/images/*.pfm; do
   build/wavevcm "${args[@]}" -o "$work/pocl.exr"
   build/wavevcm "${args[@]}" --seed 1 -o "$work/other.exr"
   gpu=$(relmse "$f" "$work/pocl.exr") noise=$(relmse "$work/other.exr" "$work/pocl.exr")
+  if [ -z "$gpu" ] || [ -z "$noise" ]; then echo "| $scene | \`$alg\` | (not compared) | | |"; continue; fi
   $py -c "
 g, n = $gpu, $noise
 r = g / n if n > 0 else float('inf')

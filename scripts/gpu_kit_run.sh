@@ -25,7 +25,8 @@ root=$(pwd)
 kit=$root/gpu-kit
 out=${OUT:-/tmp/gpu-kit-out}
 mkdir -p "$out"
-exec > >(tee "$out/log.txt") 2>&1
+# Everything below runs in main, its output through tee into log.txt.
+main() {
 deadline=$((SECONDS + ${KIT_BUDGET:-450}))
 seconds=${KIT_SECONDS:-5}
 device=${KIT_DEVICE:-NVIDIA}
@@ -43,6 +44,12 @@ step() {
 [ -x "$kit/bin/wavevcm" ] || { echo "gpu_kit_run: no $kit/bin/wavevcm: run scripts/gpu_kit.sh and carry gpu-kit"; exit 1; }
 echo "gpu_kit_run: kit of $(tr '\n' ' ' < "$kit/commit"); $(uname -m), $(nproc) cores; budget $(left) s"
 export LD_LIBRARY_PATH="$kit/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+# Debian 12's C++ runtime, only where the machine's own is older than the
+# binaries need (a newer one here stays: the driver may need it).
+if ldd "$kit/bin/wavevcm" 2>&1 | grep -q 'version .* not found'; then
+  echo "gpu_kit_run: this machine's C++ runtime is older than the kit's: using the kit's (lib-compat)"
+  export LD_LIBRARY_PATH="$LD_LIBRARY_PATH:$kit/lib-compat"
+fi
 export WAVEVCM_CACHE_DIR=/tmp/wavevcm-cache
 # The binaries look for kernels, scenes and test data under the path they were
 # built in: point it at this copy.
@@ -82,6 +89,8 @@ for scene in $scenes; do
       --profile --stats "$work/stats/$scene-$alg.json" -o "$work/speed.pfm"
   done
 done
+# What came so far goes back even if the call is cut short later.
+tar -C "$work" -czf "$out/results.tar.gz" stats images
 
 # 2. Ray casting and kernels.
 echo "== 2. wavevcm_bench"
@@ -110,6 +119,10 @@ tar -C "$work" -czf "$out/results.tar.gz" stats images
 echo "== 4. tests"
 suites='Bvh.*:HashGrid.*:Sampler.*:KernelInterface.*:KernelSources.*:ProgramBuild.*:EyeLight.*:PathTracer.*'
 suites+=':Bidirectional.*:VertexMerging.*:Mis.*:BsdfMaterials.*:Bsdf.*:MultiDevice.*:DoubleSidedEmitter.*:HardCases.*'
+suites+=':Lights.*:Environment.*'
 suites+='-PathTracer.EveryBundledSceneRendersFinite' # textured-room's environment map is an image
 step 60 "$kit/bin/wavevcm_tests" --gtest_filter="$suites" --gtest_output="xml:$out/gtest.xml" --gtest_brief=1
 echo "gpu_kit_run: done, $(left) s of the budget left"
+}
+main 2>&1 | tee "$out/log.txt"
+exit "${PIPESTATUS[0]}"

@@ -375,6 +375,8 @@ int runRender(const RenderOptions& o)
                      static_cast<unsigned long long>(job.nonFinite));
 
     if (!o.statsFile.empty()) {
+        size_t deviceBytes = 0; // every renderer's buffers
+        for (size_t i = 0; i < render.deviceCount(); ++i) deviceBytes += render.renderer(i).deviceBytes();
         nlohmann::json stats = {
             {"scene", scenePath},
             {"device", chosen[0].name},
@@ -400,7 +402,7 @@ int runRender(const RenderOptions& o)
             {"wavefront", render.renderer(0).wavefront()},
             {"merge_radius", render.renderer(0).mergeRadius()},
             {"scene_origin", {scene.origin[0], scene.origin[1], scene.origin[2]}},
-            {"device_bytes", render.renderer(0).deviceBytes()},
+            {"device_bytes", deviceBytes},
             {"ranks", ranks},
             {"pipelines", chosen.size()},
         };
@@ -413,6 +415,7 @@ int runRender(const RenderOptions& o)
                  {"pipeline", chosen[i].pipeline},
                  {"compute_units", chosen[i].computeUnits},
                  {"iterations", render.renderer(i).iterations()},
+                 {"device_bytes", render.renderer(i).deviceBytes()},
                  {"samples_per_second",
                   double(settings.width) * settings.height * render.renderer(i).iterations() / renderSeconds}});
         // Each rank's share of the job (one entry without mpirun).

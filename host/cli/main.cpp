@@ -20,8 +20,8 @@ static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severa
                             (severalDevices ? "; several, comma-separated, or all: they render together" : ""));
     command->add_option("--pipelines", o.pipelines,
                         "independent render pipelines per device, each rendering whole iterations (default: 2 on a "
-                        "CPU device of 2 or more compute units, each on half of them; 1 elsewhere and for render -n "
-                        "under 4)")
+                        "CPU device of 2 or more compute units that can be partitioned, each on half of them; 1 "
+                        "elsewhere, and for render -n under 4 per process)")
         ->check(CLI::Range(1, 256));
     // 0 stands for "not given" in RenderOptions: given, it must be a size.
     command->add_option("--width", o.width, "image width (default: from the camera's aspect ratio)")

@@ -27,7 +27,11 @@ void MultiDeviceRender::run(const IterationSchedule& schedule, double seconds, c
     std::atomic<bool> failed{false};
     std::mutex callback;
     std::exception_ptr error;
-    double excluded = 0; // callback time, under `callback`
+    // Callback time is not render time, but while one renderer is in the
+    // callback the others go on rendering: 1/renderers of it is excluded
+    // (all of it for a lone renderer). Under `callback`.
+    double excluded = 0;
+    const double excludedShare = 1.0 / double(renderers_.size());
     const clock::time_point start = clock::now();
     auto renderSeconds = [&] { return std::chrono::duration<double>(clock::now() - start).count() - excluded; };
 
@@ -40,19 +44,22 @@ void MultiDeviceRender::run(const IterationSchedule& schedule, double seconds, c
                 }
                 int entry = next.fetch_add(1);
                 if (schedule.count() >= 0 && entry >= schedule.count()) return;
+                // Between rounds: a failure on another renderer, or `abandon`,
+                // drops this iteration.
                 std::function<bool()> abandonIteration;
-                if (abandon)
+                if (abandon || renderers_.size() > 1)
                     abandonIteration = [&] {
                         std::lock_guard<std::mutex> lock(callback);
-                        return abandon();
+                        return failed || (abandon && abandon());
                     };
                 if (!renderer.iterate(schedule.first + entry * schedule.stride, abandonIteration)) return;
                 std::lock_guard<std::mutex> lock(callback);
+                if (failed) return;
                 int all = ++finished;
                 clock::time_point callbackStart = clock::now();
                 double now = before + renderSeconds();
                 if (done) done(renderer, all, now);
-                excluded += std::chrono::duration<double>(clock::now() - callbackStart).count();
+                excluded += excludedShare * std::chrono::duration<double>(clock::now() - callbackStart).count();
             }
         } catch (...) {
             std::lock_guard<std::mutex> lock(callback);

@@ -31,16 +31,18 @@ public:
                       const RenderSettings& settings);
 
     // After each iteration, on the thread of the device that ran it (calls
-    // are serialized; their time is not render time): the renderer, and the
-    // iterations and render seconds of this MultiDeviceRender so far (all
-    // calls of run()).
+    // are serialized; their time is not render time, except for the share
+    // the other renderers spend rendering meanwhile: with K renderers 1/K of
+    // it is excluded): the renderer, and the iterations and render seconds
+    // of this MultiDeviceRender so far (all calls of run()).
     using IterationDone = std::function<void(Renderer&, int iterations, double seconds)>;
 
     // Renders the schedule's next indices, one per iteration, until it has no
     // more, `seconds` of render time in this call (0: no limit) or `stop()`;
     // whole iterations only. A later call goes on where this one stopped, so
     // the indices done are always the schedule's first iterations(). An
-    // exception on any device ends the render on all of them and is rethrown
+    // exception on any device ends the render on all of them (the others'
+    // iterations in flight are dropped at their next round) and is rethrown
     // here. `abandon` (optional, asked like `stop`, but also between the
     // rounds of an iteration) drops the iterations in flight unfinished.
     void run(const IterationSchedule& schedule, double seconds, const std::function<bool()>& stop,

@@ -9,11 +9,19 @@ namespace wv {
 
 static std::string megabytes(size_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
+// What a memory error adds on a pipeline's share of a device (pipelineDevices).
+static std::string pipelineShare(const DeviceInfo& device)
+{
+    if (device.pipelines <= 1) return "";
+    return " (each of its " + std::to_string(device.pipelines) + " pipelines gets 1/" +
+           std::to_string(device.pipelines) + " of its memory; --pipelines 1 gives one all of it)";
+}
+
 static void checkAllocation(const DeviceContext& device, size_t bytes, const std::string& what)
 {
     if (bytes > device.info.maxAllocation)
-        throw Error(what + " needs " + megabytes(bytes) + " but " + device.info.name + " allows at most " +
-                    megabytes(device.info.maxAllocation) + " per buffer");
+        throw Error(what + " needs " + megabytes(bytes) + " but " + device.info.label() + " allows at most " +
+                    megabytes(device.info.maxAllocation) + " per buffer" + pipelineShare(device.info));
 }
 
 cl::Buffer deviceBuffer(DeviceContext& device, size_t bytes, const std::string& what)
@@ -117,8 +125,8 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     envMarginalCdf = upload(nonEmpty(env.marginalCdf, 1), "the environment map's distribution");
     envConditionalCdf = upload(nonEmpty(env.conditionalCdf, 1), "the environment map's distribution");
     if (bytes > device.info.globalMemory)
-        throw Error("the scene needs " + megabytes(bytes) + " but " + device.info.name + " has " +
-                    megabytes(device.info.globalMemory));
+        throw Error("the scene needs " + megabytes(bytes) + " but " + device.info.label() + " has " +
+                    megabytes(device.info.globalMemory) + pipelineShare(device.info));
 }
 
 void SceneBuffers::bind(KernelBuffers& b) const

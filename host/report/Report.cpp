@@ -356,6 +356,9 @@ void validate(const ReportOptions& o)
         if (!seen.insert(a).second) throw Error("report: algorithm " + a + " given twice");
     }
     if (o.outputDir.empty()) throw Error("report: no output directory (-o DIR)");
+    if (!haveImageLibrary())
+        throw Error("report: this wavevcm was built without OpenImageIO (-DWAVEVCM_IMAGE_IO=OFF) and writes no "
+                    "report images");
     if (o.render.device.find(',') != std::string::npos || o.render.device == "all")
         throw Error("report: -d takes one device (each render's time is measured on it)");
     for (const std::string& s : o.scenes)
