@@ -21,6 +21,7 @@ struct Result {
     Image image;
     std::vector<int> shares;   // iterations per device
     std::vector<int> counts;   // the iterations each callback was given, in call order
+    std::vector<int> running;  // runningIterations() after runningImage() in each callback
     Image lastRunning;         // runningImage() at the last callback
 };
 
@@ -46,6 +47,7 @@ Result renderOn(const std::vector<DeviceInfo>& infos, const Scene& scene, Algori
     render.run(schedule, 0, [] { return false; }, [&](Renderer& renderer, int done, double) {
         r.counts.push_back(done);
         r.lastRunning = render.runningImage(renderer);
+        r.running.push_back(render.runningIterations());
     });
     r.image = render.image();
     for (size_t i = 0; i < render.deviceCount(); ++i) r.shares.push_back(render.renderer(i).iterations());
@@ -101,6 +103,7 @@ TEST(MultiDevice, PipelinesOnSubDevicesGiveTheImageOfOne)
         std::vector<int> expected(12);
         for (int i = 0; i < 12; ++i) expected[size_t(i)] = i + 1;
         EXPECT_EQ(two.counts, expected);
+        EXPECT_EQ(two.running, expected) << "each running image holds the iterations finished so far";
     }
 }
 

@@ -144,6 +144,14 @@ Image MultiDeviceRender::runningImage(Renderer& finished)
     return weightedMean(lastImages_, lastIterations_);
 }
 
+int MultiDeviceRender::runningIterations() const
+{
+    if (renderers_.size() == 1) return renderers_[0]->iterations();
+    int n = 0;
+    for (int c : lastIterations_) n += c;
+    return n;
+}
+
 std::array<Image, 3> MultiDeviceRender::techniqueImages()
 {
     if (renderers_.size() == 1) return renderers_[0]->techniqueImages();

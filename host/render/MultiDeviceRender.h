@@ -53,6 +53,9 @@ public:
     // and each other renderer's as it was when that one last finished an
     // iteration (it may be in the middle of one now). Reads back one image.
     Image runningImage(Renderer& finished);
+    // The iterations the last runningImage() holds: the callback's count when
+    // it is called from every callback.
+    int runningIterations() const;
 
     int iterations() const;
     double seconds() const { return seconds_; } // render time of every run() so far
