@@ -28,12 +28,7 @@ struct Result {
 Result renderOn(const std::vector<DeviceInfo>& infos, const Scene& scene, Algorithm algorithm, int iterations,
                 uint32_t seed, IterationSchedule schedule = {})
 {
-    std::vector<std::unique_ptr<DeviceContext>> contexts;
-    std::vector<DeviceContext*> devices;
-    for (const DeviceInfo& d : infos) {
-        contexts.push_back(std::make_unique<DeviceContext>(d));
-        devices.push_back(contexts.back().get());
-    }
+    DeviceContexts contexts(infos);
     RenderSettings s;
     s.algorithm = algorithm;
     s.width = 32;
@@ -41,7 +36,7 @@ Result renderOn(const std::vector<DeviceInfo>& infos, const Scene& scene, Algori
     s.seed = seed;
     s.wavefront = 512;
     Bvh bvh = buildBvh(scene.vertices);
-    MultiDeviceRender render(devices, scene, bvh, s);
+    MultiDeviceRender render(contexts.pointers, scene, bvh, s);
     schedule.end = iterations;
     Result r;
     render.run(schedule, 0, [] { return false; }, [&](Renderer& renderer, int done, double) {

@@ -261,13 +261,8 @@ int runRender(const RenderOptions& o)
         for (const DeviceInfo& p : pipelineDevices(d, pipelinesOf(d))) chosen.push_back(p);
 
     Bvh bvh = buildBvh(scene.vertices);
-    std::vector<std::unique_ptr<DeviceContext>> contexts;
-    std::vector<DeviceContext*> devices;
-    for (const DeviceInfo& d : chosen) {
-        contexts.push_back(std::make_unique<DeviceContext>(d, o.profile));
-        devices.push_back(contexts.back().get());
-    }
-    MultiDeviceRender render(devices, scene, bvh, settings);
+    DeviceContexts contexts(chosen, o.profile);
+    MultiDeviceRender render(contexts.pointers, scene, bvh, settings);
     double setupSeconds = since(setupStart);
     for (size_t i = 0; i < render.deviceCount() && !quiet; ++i)
         std::fprintf(stderr, "wavevcm: %s, %zu triangles, %dx%d, %s on %s (%s); setup %.2f s (kernels %.2f s%s)\n",

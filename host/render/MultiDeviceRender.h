@@ -25,6 +25,21 @@ struct IterationSchedule {
     int count() const { return end <= 0 ? -1 : (end > first ? (end - first + stride - 1) / stride : 0); }
 };
 
+// The OpenCL contexts of a render's devices (whole devices, or the
+// pipelines pipelineDevices makes of one), owned together, and the pointers
+// MultiDeviceRender takes.
+struct DeviceContexts {
+    explicit DeviceContexts(const std::vector<DeviceInfo>& devices, bool profiling = false)
+    {
+        for (const DeviceInfo& d : devices) {
+            owned.push_back(std::make_unique<DeviceContext>(d, profiling));
+            pointers.push_back(owned.back().get());
+        }
+    }
+    std::vector<std::unique_ptr<DeviceContext>> owned;
+    std::vector<DeviceContext*> pointers;
+};
+
 class MultiDeviceRender {
 public:
     MultiDeviceRender(const std::vector<DeviceContext*>& devices, const Scene& scene, const Bvh& bvh,

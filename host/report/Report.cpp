@@ -381,13 +381,9 @@ void writeReport(const ReportOptions& o)
     // The device as render uses it: its pipelines, each rendering whole
     // iterations, the running image of all of them logged after each.
     const DeviceInfo selected = selectDevice(devices, o.render.device);
-    std::vector<std::unique_ptr<DeviceContext>> contexts;
-    std::vector<DeviceContext*> pipelines;
-    for (const DeviceInfo& d :
-         pipelineDevices(selected, o.render.pipelines > 0 ? o.render.pipelines : defaultPipelines(selected))) {
-        contexts.push_back(std::make_unique<DeviceContext>(d));
-        pipelines.push_back(contexts.back().get());
-    }
+    DeviceContexts contexts(
+        pipelineDevices(selected, o.render.pipelines > 0 ? o.render.pipelines : defaultPipelines(selected)));
+    const std::vector<DeviceContext*>& pipelines = contexts.pointers;
     const std::string deviceName =
         selected.name + (pipelines.size() > 1 ? " (" + std::to_string(pipelines.size()) + " pipelines)" : "");
     const double referenceSeconds = o.referenceSeconds > 0 ? o.referenceSeconds : 6 * o.seconds;
