@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Here, after scripts/gpu_kit_run.sh ran on a GPU: its figures as Markdown
-# tables, and its images against this machine's PoCL renders of the same
-# iterations (same seed, 16 iterations at 128 x 128, build/wavevcm):
-#   scripts/gpu_kit_compare.sh DIR   (DIR: the run's files, results.tar.gz and bench-*.json)
+# tables, its images against this machine's PoCL renders of the same
+# iterations (same seed, 16 iterations at 128 x 128, build/wavevcm), and the
+# tests' outcome:
+#   scripts/gpu_kit_compare.sh DIR   (DIR: the run's files: results.tar.gz, bench-*.json, gtest.xml)
 # Per scene and algorithm: relMSE of the GPU's image against PoCL's, and of
 # PoCL's image with another seed against it (the noise of 16 iterations).
 # The GPU draws the same samples as PoCL with other float rounding, so its
@@ -71,3 +72,23 @@ g, n = $gpu, $noise
 r = g / n if n > 0 else float('inf')
 print('| $scene | \`$alg\` | %.3g | %.3g | %.3g%s |' % (g, n, r, '' if r < 0.05 else ' (over 0.05)'))"
 done
+
+echo
+echo "### Tests on the GPU (gtest.xml)"
+echo
+if [ -f "$dir/gtest.xml" ]; then
+  $py - "$dir/gtest.xml" <<'PYEOF'
+import sys, xml.etree.ElementTree as ET
+root = ET.parse(sys.argv[1]).getroot()
+cases = root.findall(".//testcase")
+failed = [c for c in cases if c.find("failure") is not None]
+skipped = [c for c in cases if c.get("result") == "skipped" or c.find("skipped") is not None]
+print("%d tests: %d passed, %d failed, %d skipped" % (len(cases), len(cases) - len(failed) - len(skipped),
+      len(failed), len(skipped)))
+for c in failed:
+    message = " ".join(c.find("failure").get("message", "").split())
+    print("- FAILED %s.%s: %s" % (c.get("classname"), c.get("name"), message[:300]))
+PYEOF
+else
+  echo "(no gtest.xml: the tests did not run)"
+fi
