@@ -280,7 +280,8 @@ int runRender(const RenderOptions& o)
     ProgressBar progress(!quiet && ::isatty(STDERR_FILENO), spp, o.seconds);
     std::vector<int> iterationsByRank(size_t(ranks), 0);
     // Render time excludes the error log's work (reading the image back and
-    // comparing it), so the log's times are what the render alone took.
+    // comparing it; with K pipelines 1/K of it, the others rendering
+    // meanwhile), so the log's times are what the render took.
     auto iterationDone = [&](Renderer& renderer, int iterations, double seconds) {
         if (errorLog) errorLog->add(seconds, iterations, render.runningImage(renderer));
         cluster::reportProgress(iterations);
