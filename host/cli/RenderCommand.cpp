@@ -218,7 +218,8 @@ int runRender(const RenderOptions& o)
     parseAlgorithm(o.algorithm); // before anything else, as the other options
     // Check the output's format before the render, not after it.
     checkOutputFormat(o.output);
-    if (!o.aov.empty() && !haveImageLibrary()) checkOutputFormat(o.output + ".techniques.exr");
+    if (!o.aov.empty() && !haveImageLibrary()) // --aov writes STEM.techniques.exr
+        checkOutputFormat((fs::path(o.output).parent_path() / fs::path(o.output).stem()).string() + ".techniques.exr");
     if (ranks > 1 && !o.errorLog.empty())
         throw Error("--error-log needs a single process, not an MPI job of " + std::to_string(ranks) + " ranks");
     if (root) { // rank 0 writes every file; the others none
