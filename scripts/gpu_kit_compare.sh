@@ -3,7 +3,7 @@
 # tables, its images against this machine's PoCL renders of the same
 # iterations (same seed, 16 iterations at 128 x 128, build/wavevcm), and the
 # tests' outcome:
-#   scripts/gpu_kit_compare.sh DIR   (DIR: the run's files: results.tar.gz, bench-*.json, gtest.xml)
+#   scripts/gpu_kit_compare.sh DIR   (DIR: the run's files: results.tar.gz, bench-*.json, gtest.xml, log.txt)
 # Per scene and algorithm: relMSE of the GPU's image against PoCL's, and of
 # PoCL's image with another seed against it (the noise of 16 iterations).
 # The GPU draws the same samples as PoCL with other float rounding, so its
@@ -89,6 +89,13 @@ for c in failed:
     message = " ".join(c.find("failure").get("message", "").split())
     print("- FAILED %s.%s: %s" % (c.get("classname"), c.get("name"), message[:300]))
 PYEOF
+elif [ -f "$dir/log.txt" ] && grep -q '^\[ RUN      \]' "$dir/log.txt"; then
+  # Cut short before gtest wrote its XML: the log says what ran.
+  ok=$(grep -c '^\[       OK \]' "$dir/log.txt")
+  skipped=$(grep -c '^\[  SKIPPED \]' "$dir/log.txt")
+  echo "(no gtest.xml: the run was cut short) from log.txt: $ok passed, $skipped skipped, these failed:"
+  grep '^\[  FAILED  \] [A-Za-z]*\.[A-Za-z]* (' "$dir/log.txt" | sed 's/^/- /'
+  echo "unfinished: $(grep '^\[ RUN      \]' "$dir/log.txt" | tail -1 | cut -c14-)"
 else
-  echo "(no gtest.xml: the tests did not run)"
+  echo "(no gtest.xml or test log: the tests did not run)"
 fi

@@ -15,9 +15,11 @@
 #   3. images: every algorithm, 16 iterations at 128 x 128, as .pfm, for
 #      scripts/gpu_kit_compare.sh to compare with PoCL's here;
 #   4. correctness on the GPU: the GoogleTest suites that need no image files.
+# KIT_STEPS picks and orders them (default "speed rays images tests"; a
+# session that has the figures can run "tests images" first).
 # Writes under $OUT (else /tmp/gpu-kit-out): log.txt, bench-*.json,
 # gtest.xml, results.tar.gz (the images and --stats files).
-# KIT_DEVICE (default NVIDIA) selects the device; KIT_ICD names an OpenCL
+# KIT_DEVICE (default NVIDIA) selects the device; KIT_ICD names the OpenCL
 # driver library to load instead of searching for NVIDIA's (checks here:
 # KIT_ICD=/usr/lib/x86_64-linux-gnu/libpocl.so.2 KIT_DEVICE=pthread).
 set -uo pipefail
@@ -31,6 +33,7 @@ main() {
 deadline=$((SECONDS + ${KIT_BUDGET:-450}))
 seconds=${KIT_SECONDS:-5}
 device=${KIT_DEVICE:-NVIDIA}
+steps=${KIT_STEPS:-speed rays images tests}
 left() { echo $((deadline - SECONDS)); }
 # Runs "$@" with what is left of the budget (at least $1 seconds needed).
 step() {
@@ -58,23 +61,42 @@ src=$(cat "$kit/source-dir")
 if [ "$src" != "$root" ] && [ ! -e "$src" ]; then mkdir -p "$(dirname "$src")" && ln -s "$root" "$src"; fi
 [ -d "$src/kernels" ] || { echo "gpu_kit_run: cannot reach the sources at $src"; exit 1; }
 
-# 0. The driver. ocl-icd loads the libraries OCL_ICD_FILENAMES names.
+# 0. The driver. Debian's ocl-icd (the kit's libOpenCL) knows no
+# OCL_ICD_FILENAMES: it loads the libraries that the .icd files in
+# OCL_ICD_VENDORS name. That folder is made here with one driver in it, so a
+# CPU driver the machine registers is left out (it would slow the tests down).
+export OCL_ICD_VENDORS=$(mktemp -d)
+# Does the driver library $1 give a device matching $device?
+try_driver() {
+  echo "$1" > "$OCL_ICD_VENDORS/kit.icd"
+  "$kit/bin/wavevcm" devices > /tmp/gpu-kit-devices.txt 2>&1 && grep -qi "$device" /tmp/gpu-kit-devices.txt
+}
 if [ -n "${KIT_ICD:-}" ]; then
-  export OCL_ICD_FILENAMES=$KIT_ICD
+  try_driver "$KIT_ICD" || { cat /tmp/gpu-kit-devices.txt; echo "gpu_kit_run: no device matches '$device' with $KIT_ICD"; exit 2; }
 else
   command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
-  icd=$(find /usr/local/nvidia /usr/lib /usr/lib64 /usr/local/lib /lib -name 'libnvidia-opencl.so*' 2>/dev/null |
-        sort | head -1)
-  if [ -z "$icd" ]; then
-    echo "gpu_kit_run: no libnvidia-opencl.so here: NVIDIA's OpenCL driver is not installed. What there is:"
-    ls /etc/OpenCL/vendors 2>/dev/null
-    ls /usr/local/nvidia/lib64 /usr/local/nvidia/lib 2>/dev/null | head -50
+  # Every copy of NVIDIA's OpenCL driver library: the first that gives a
+  # device wins (an unversioned link may lead nowhere or to a stub).
+  found=
+  for icd in $(find /usr/local/nvidia /usr/lib /usr/lib64 /usr/local/lib /lib /lib64 \
+                 -name 'libnvidia-opencl.so*' 2>/dev/null | sort -u); do
+    if try_driver "$icd"; then found=$icd; break; fi
+    echo "gpu_kit_run: $icd gives no '$device' device: $(ls -l "$icd" | cut -c1-200)"
+    head -3 /tmp/gpu-kit-devices.txt
+    python3 -c "import ctypes, sys; ctypes.CDLL(sys.argv[1])" "$icd" 2>&1 | tail -1
+  done
+  if [ -z "$found" ]; then
+    echo "gpu_kit_run: no working libnvidia-opencl.so here. What there is:"
+    for f in /etc/OpenCL/vendors/*.icd; do [ -f "$f" ] && echo "$f: $(cat "$f")"; done
+    ls -l /dev/nvidia* 2>/dev/null
+    find / -xdev \( -name 'libnvidia-opencl*' -o -name 'libcuda.so*' \) -print 2>/dev/null | head -20
     exit 2
   fi
-  echo "gpu_kit_run: OpenCL driver $icd"
-  export OCL_ICD_FILENAMES=$icd
+  echo "gpu_kit_run: OpenCL driver $found"
 fi
-step 30 "$kit/bin/wavevcm" devices || { echo "gpu_kit_run: no OpenCL device"; exit 2; }
+cat /tmp/gpu-kit-devices.txt
+# The tests run on the kit's device alone.
+export WAVEVCM_TEST_DEVICES=$device
 
 work=/tmp/gpu-kit-work
 rm -rf "$work"
@@ -83,6 +105,7 @@ scenes="cornell-box caustics"
 algorithms="pt vcm bpt ppm bpm lt" # the issues' main figures first, in case the budget runs out
 
 # 1. Speed (the first run of each program builds it; the setup line says how long).
+speed() {
 echo "== 1. speed: ${seconds} s each at 512 x 512 on '$device'"
 for alg in $algorithms; do
   for scene in $scenes; do
@@ -98,8 +121,10 @@ for alg in pt vcm; do
 done
 # What came so far goes back even if the call is cut short later.
 tar -C "$work" -czf "$out/results.tar.gz" stats images
+}
 
 # 2. Ray casting and kernels.
+rays() {
 echo "== 2. wavevcm_bench"
 python3 scripts/make_scenes.py cornell-box-130k -d "$work/bench-scenes" >/dev/null &&
   step 60 python3 scripts/make_scenes.py displaced-1m -d "$work/bench-scenes" >/dev/null
@@ -111,8 +136,10 @@ for scene in scenes/cornell-box.gltf "$work/bench-scenes/cornell-box-130k.gltf" 
 done
 WAVEVCM_BENCH_DEVICE=$device step 60 "$kit/bin/wavevcm_bench" --benchmark_filter='BM_Kernel_.*/65536' \
   --benchmark_min_time=0.1 --benchmark_out="$out/bench-kernels.json" --benchmark_out_format=json
+}
 
 # 3. Images for the comparison with PoCL (scripts/gpu_kit_compare.sh).
+images() {
 echo "== 3. images: 16 iterations at 128 x 128"
 for scene in $scenes; do
   for alg in $algorithms; do
@@ -121,14 +148,26 @@ for scene in $scenes; do
   done
 done
 tar -C "$work" -czf "$out/results.tar.gz" stats images
+}
 
 # 4. Correctness on the GPU: the suites that read or write no image files.
+# Not brief: if the budget cuts the run short there is no gtest.xml, and the
+# log's OK/FAILED lines say what ran (gpu_kit_compare.sh reads either).
+tests() {
 echo "== 4. tests"
 suites='Bvh.*:HashGrid.*:Sampler.*:KernelInterface.*:KernelSources.*:ProgramBuild.*:EyeLight.*:PathTracer.*'
 suites+=':Bidirectional.*:VertexMerging.*:Mis.*:BsdfMaterials.*:Bsdf.*:MultiDevice.*:DoubleSidedEmitter.*:HardCases.*'
 suites+=':Lights.*:Environment.*'
 suites+='-PathTracer.EveryBundledSceneRendersFinite' # textured-room's environment map is an image
-step 60 "$kit/bin/wavevcm_tests" --gtest_filter="$suites" --gtest_output="xml:$out/gtest.xml" --gtest_brief=1
+step 60 "$kit/bin/wavevcm_tests" --gtest_filter="$suites" --gtest_output="xml:$out/gtest.xml"
+}
+
+for s in $steps; do
+  case $s in
+    speed|rays|images|tests) $s ;;
+    *) echo "gpu_kit_run: unknown step '$s' in KIT_STEPS (speed rays images tests)"; exit 1 ;;
+  esac
+done
 echo "gpu_kit_run: done, $(left) s of the budget left"
 }
 main 2>&1 | tee "$out/log.txt"

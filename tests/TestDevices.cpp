@@ -1,8 +1,17 @@
 #include "TestDevices.h"
 
+#include <cstdlib>
+
 namespace wv::test {
 
-std::vector<DeviceInfo> devicesUnderTest() { return enumerateDevices(); }
+std::vector<DeviceInfo> devicesUnderTest()
+{
+    // WAVEVCM_TEST_DEVICES (render's -d syntax) narrows the run, e.g. to the
+    // GPU alone where a slow CPU driver is also installed (scripts/gpu_kit_run.sh).
+    const char* selectors = std::getenv("WAVEVCM_TEST_DEVICES");
+    if (selectors && *selectors) return selectDevices(enumerateDevices(), selectors);
+    return enumerateDevices();
+}
 
 std::string testKernel(const std::string& name) { return std::string(WAVEVCM_TEST_KERNEL_DIR) + "/" + name; }
 

@@ -10,7 +10,8 @@
 
 namespace wv::test {
 
-// Every device (ctest sets RUSTICL_ENABLE=llvmpipe so rusticl is among them).
+// Every device (ctest sets RUSTICL_ENABLE=llvmpipe so rusticl is among them),
+// or those WAVEVCM_TEST_DEVICES selects.
 std::vector<DeviceInfo> devicesUnderTest();
 
 // A program of the named kernel files; test kernels live in tests/kernels.

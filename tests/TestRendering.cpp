@@ -1,4 +1,5 @@
 #include "TestRendering.h"
+#include "TestDevices.h"
 
 #include "bvh/Bvh.h"
 #include "render/Renderer.h"
@@ -146,7 +147,7 @@ void expectConvergeTo(const DeviceInfo& device, const Scene& scene, const std::v
 
 void expectSameImageOnEveryDevice(const Scene& scene, Algorithm algorithm, int size, int iterations)
 {
-    std::vector<DeviceInfo> devices = enumerateDevices();
+    std::vector<DeviceInfo> devices = devicesUnderTest();
     if (devices.size() < 2) GTEST_SKIP() << "only one OpenCL device; install mesa-opencl-icd for rusticl";
     std::vector<Image> first = renderSeeds(devices[0], scene, algorithm, size, size, iterations, 3);
     for (size_t d = 1; d < devices.size(); ++d) {
