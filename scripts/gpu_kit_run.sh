@@ -8,7 +8,7 @@
 #      `wavevcm devices`;
 #   1. speed: every algorithm on the Cornell box and the caustics scene at
 #      512 x 512 for KIT_SECONDS (default 5) with --profile and --stats, and
-#      pt and vcm on two pipelines sharing the GPU;
+#      pt and vcm with --rounds-ahead 0 (the host waiting after every round);
 #   2. ray casting: wavevcm_bench's extend/connect benchmarks on the Cornell
 #      box and the 130K- and 1M-triangle scenes (made by scripts/make_scenes.py),
 #      and its per-kernel benchmarks;
@@ -113,11 +113,11 @@ for alg in $algorithms; do
       --profile --stats "$work/stats/$scene-$alg.json" -o "$work/speed.pfm"
   done
 done
-# Two pipelines sharing the GPU (each its own queue): does one's host round
-# trip hide behind the other's kernels? (render's default is one on a GPU.)
+# The host waiting for every round's counters (--rounds-ahead 0, the CPU's
+# way) against keeping rounds enqueued (the GPU default, 2).
 for alg in pt vcm; do
   step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" -d "$device" -t "$seconds" \
-    --pipelines 2 --stats "$work/stats/cornell-box-2pipelines-$alg.json" -o "$work/speed.pfm"
+    --rounds-ahead 0 --profile --stats "$work/stats/cornell-box-ahead0-$alg.json" -o "$work/speed.pfm"
 done
 # What came so far goes back even if the call is cut short later.
 tar -C "$work" -czf "$out/results.tar.gz" stats images

@@ -397,6 +397,7 @@ int runRender(const RenderOptions& o)
             {"kernel_cache", cacheName(render.renderer(0).programBuild().cache)},
             {"kernel_cache_hit", render.renderer(0).programBuild().fromCache},
             {"wavefront", render.renderer(0).wavefront()},
+            {"rounds_ahead", render.renderer(0).roundsAhead()},
             {"merge_radius", render.renderer(0).mergeRadius()},
             {"scene_origin", {scene.origin[0], scene.origin[1], scene.origin[2]}},
             {"device_bytes", deviceBytes},

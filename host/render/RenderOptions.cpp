@@ -116,6 +116,7 @@ RenderSettings renderSettings(const RenderOptions& o, const Scene& scene)
     settings.maxPathLength = o.maxPathLength;
     settings.seed = o.seed;
     settings.wavefront = o.wavefront;
+    settings.roundsAhead = o.roundsAhead;
     settings.radiusFactor = float(o.radiusFactor);
     settings.radiusAlpha = float(o.radiusAlpha);
     settings.techniques = o.aov == "techniques";

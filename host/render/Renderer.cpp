@@ -60,6 +60,8 @@ int defaultWavefront(const DeviceInfo& device)
     return int(std::max<size_t>(1024, std::min(wanted, fits)));
 }
 
+int defaultRoundsAhead(const DeviceInfo& device) { return (device.type & CL_DEVICE_TYPE_GPU) ? 2 : 0; }
+
 static size_t roundUp(size_t x, size_t multiple) { return (x + multiple - 1) / multiple * multiple; }
 
 static PathState makePathState(DeviceContext& device, const RenderSettings& s, KernelBuffers& buffers)
@@ -122,6 +124,13 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     params_.pixels = pixels_;
     params_.techniques = settings.techniques ? 1 : 0;
     params_.storeVertices = useVC_ || useVM_ ? 1 : 0;
+
+    // The rounds: plan_round, and the host's view of the counters.
+    planRound_ = kernel("plan_round");
+    roundsAhead_ = settings.roundsAhead >= 0 ? settings.roundsAhead : defaultRoundsAhead(device.info);
+    phaseStartCounters_.assign(COUNTER_INDEX(COUNTER_PHASE_STATE), 0);
+    phaseStartCounters_[COUNTER_INDEX(QUEUE_FREE(0))] = paths_.capacity;
+    roundCounters_.assign(size_t(roundsAhead_) + 1, std::vector<int>(COUNTER_INDEX(COUNTER_PHASE_STATE)));
 
     // Camera sub-paths.
     Phase& c = cameraPhase_;
@@ -222,13 +231,15 @@ void Renderer::setBatchConstants(int lightPaths)
     params_.vmNormalization = useVM_ ? 1.0f / eta : 0.0f;
 }
 
-int Renderer::lightVertexCount()
+uint32_t Renderer::readCounter(int counter)
 {
-    int count = 0;
-    device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE,
-                                    size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int), sizeof count, &count);
-    return count;
+    uint32_t value = 0;
+    device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE, size_t(COUNTER_INDEX(counter)) * sizeof value,
+                                    sizeof value, &value);
+    return value;
 }
+
+int Renderer::lightVertexCount() { return int(readCounter(COUNTER_LIGHT_VERTICES)); }
 
 void Renderer::buildHashGrid()
 {
@@ -249,27 +260,22 @@ void Renderer::launch(cl::Kernel& kernel, size_t items)
     }
 }
 
-// One round: `generated` new paths into free slots, then every live path
-// (`rays` continuing ones plus the new ones) advances one segment. Consumes
-// RAYS(parity) and FREE(parity), fills the other pair.
-void Renderer::round(Phase& phase, int parity, size_t generated, size_t issued, size_t rays)
+// One round: plan_round decides on the device how many new paths start (as
+// many as there are free slots and samples left), then every live path
+// advances one segment. Launches cover `fresh` new paths and `live` paths in
+// all: the actual numbers, or upper bounds of them (kernels skip the items
+// past their queue's size on the device). With live = 0, the plan alone: it
+// counts the last round's shadow rays. Consumes RAYS(parity) and
+// FREE(parity), fills the other pair.
+void Renderer::round(Phase& phase, int parity, size_t fresh, size_t live)
 {
-    int next = 1 - parity;
-    auto counterOffset = [](int c) { return size_t(COUNTER_INDEX(c)) * sizeof(int); };
-    auto clearCounters = [&](int first, int count) {
-        device_.queue.enqueueFillBuffer(buffers_.queueCounters, 0, counterOffset(first), counterOffset(count));
-    };
-    clearCounters(QUEUE_HITS, 3); // hits, escaped, shadow
-    clearCounters(QUEUE_RAYS(next), 2);
     params_.rayQueue = QUEUE_RAYS(parity);
     params_.freeQueue = QUEUE_FREE(parity);
-    params_.nextRayQueue = QUEUE_RAYS(next);
-    params_.nextFreeQueue = QUEUE_FREE(next);
-    params_.generateCount = int(generated);
-    params_.firstSample = int(issued);
-    params_.rayQueueLength = int(rays);
-    size_t live = rays + generated;
-    launch(phase.generate, std::max<size_t>(generated, 1)); // item 0 also sets the ray queue's length
+    params_.nextRayQueue = QUEUE_RAYS(1 - parity);
+    params_.nextFreeQueue = QUEUE_FREE(1 - parity);
+    launch(planRound_, 1);
+    if (live == 0) return;
+    if (fresh > 0) launch(phase.generate, fresh);
     launch(phase.extend, live);
     if (phase.hasConnectVertices) launch(phase.connectVertices, live);
     if (phase.hasMerge) launch(phase.merge, live);
@@ -278,38 +284,67 @@ void Renderer::round(Phase& phase, int parity, size_t generated, size_t issued, 
     if (phase.hasConnect) launch(phase.connect, live);
 }
 
-// Runs paths for samples [firstSample, firstSample + count) to completion.
-// The host reads the counters once per round, to size the next round's
-// launches (OpenCL 1.2 has no indirect dispatch) and to see when the phase is
-// over. Launching over the full capacity instead, with kernels returning past
-// their queue's size, cost more on PoCL than the ~70 µs synchronisation:
-// most rounds have few live paths.
+// Runs paths for samples [firstSample, firstSample + count) to completion,
+// in rounds. The host needs the counters to see when the phase is over, and
+// reads them in one of two ways (RenderSettings::roundsAhead):
+// - 0 (CPU devices): after every round, blocking, and sizes the next round's
+//   launches by them (OpenCL 1.2 has no indirect dispatch). Launching over
+//   the full capacity instead cost more on PoCL than the ~70 µs wait: most
+//   rounds have few live paths, and every work-item of a launch costs there.
+// - N > 0 (GPUs): it enqueues round r and a non-blocking read of its
+//   counters, then waits for round r − N's: N rounds stay queued, so the GPU
+//   does not idle while the host waits and enqueues (on an H200, 27-51 % of
+//   the time at N = 0). Launches cover upper bounds; the up to N rounds
+//   enqueued after the last live one are empty and cheap.
 bool Renderer::runPhase(Phase& phase, int firstSample, int count)
 {
     params_.cameraPaths = phase.cameraPaths ? 1 : 0;
-    // Every slot starts free.
-    std::vector<int> counters(COUNTER_INDEX(COUNTER_LIGHT_VERTICES), 0);
-    counters[COUNTER_INDEX(QUEUE_FREE(0))] = paths_.capacity;
-    device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_TRUE, 0, counters.size() * sizeof(int),
-                                     counters.data());
+    params_.firstSample = firstSample;
+    params_.samples = count;
+    // Every queue empty but FREE(0), which holds every slot.
+    device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_FALSE, 0, phaseStartCounters_.size() * sizeof(int),
+                                     phaseStartCounters_.data());
     device_.queue.enqueueCopyBuffer(paths_.slotIndices, buffers_.queueItems, 0,
                                     size_t(QUEUE_FREE(0)) * paths_.capacity * sizeof(int),
                                     size_t(paths_.capacity) * sizeof(int));
-    size_t rays = 0, free = size_t(paths_.capacity), issued = 0;
-    std::vector<int> now(COUNTER_INDEX(COUNTER_COUNT));
-    for (int parity = 0;; parity = 1 - parity) {
-        size_t generated = std::min(free, size_t(count) - issued);
-        if (rays + generated == 0) break;
-        round(phase, parity, generated, size_t(firstSample) + issued, rays);
-        issued += generated;
-        rays_ += rays + generated;
-        device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE, 0, now.size() * sizeof(int), now.data());
-        rays = size_t(now[COUNTER_INDEX(QUEUE_RAYS(1 - parity))]);
-        free = size_t(now[COUNTER_INDEX(QUEUE_FREE(1 - parity))]);
-        rays_ += size_t(now[COUNTER_INDEX(QUEUE_SHADOW)]);
-        if (abandon_ && abandon_()) return false;
+    size_t capacity = size_t(paths_.capacity);
+    // Paths alive at the start of the round after the one these counters
+    // were read after, and of them how many are new (plan_round's rule).
+    auto nextRound = [&](const std::vector<int>& now, int parity, size_t* fresh) {
+        size_t free = size_t(now[COUNTER_INDEX(QUEUE_FREE(1 - parity))]);
+        *fresh = std::min(free, size_t(count - now[COUNTER_INDEX(COUNTER_ISSUED)]));
+        return size_t(now[COUNTER_INDEX(QUEUE_RAYS(1 - parity))]) + *fresh;
+    };
+    size_t ahead = size_t(roundsAhead_);
+    if (ahead == 0) {
+        std::vector<int>& now = roundCounters_[0];
+        size_t fresh = std::min(capacity, size_t(count)), live = fresh;
+        for (int parity = 0;; parity = 1 - parity) {
+            round(phase, parity, fresh, live);
+            if (live == 0) return true;
+            device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE, 0, now.size() * sizeof(int), now.data());
+            live = nextRound(now, parity, &fresh);
+            if (abandon_ && abandon_()) return false;
+        }
     }
-    return true;
+    // roundCounters_ has ahead + 1 entries: round r's read goes to r mod (ahead + 1).
+    std::vector<cl::Event> reads(ahead + 1);
+    size_t freshBound = std::min(capacity, size_t(count));
+    bool finished = false;
+    for (size_t r = 0; !finished; ++r) {
+        int parity = int(r % 2);
+        round(phase, parity, freshBound, capacity);
+        std::vector<int>& counters = roundCounters_[r % (ahead + 1)];
+        device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_FALSE, 0, counters.size() * sizeof(int),
+                                        counters.data(), nullptr, &reads[r % (ahead + 1)]);
+        if (r >= ahead) {
+            size_t q = r - ahead, fresh = 0;
+            reads[q % (ahead + 1)].wait();
+            finished = nextRound(roundCounters_[q % (ahead + 1)], int(q % 2), &fresh) == 0;
+        }
+        if (!finished && abandon_ && abandon_()) return false;
+    }
+    return true; // the reads still in flight write roundCounters_, which stays
 }
 
 // The bidirectional algorithms' iteration: light paths go in batches of
@@ -338,10 +373,8 @@ Renderer::Batches Renderer::renderBatches()
             params_.firstLightPath = lightFirst;
             params_.firstSplatPath = splatted;
             setBatchConstants(lightCount);
-            int zero = 0;
-            device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_TRUE,
-                                             size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int),
-                                             sizeof zero, &zero);
+            device_.queue.enqueueFillBuffer(buffers_.queueCounters, 0,
+                                            size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int), sizeof(int));
             if (!runPhase(lightPhase_, lightFirst, lightCount)) return Batches::Abandoned;
             splatted = std::max(splatted, lightFirst + lightCount);
             size_t wanted = params_.storeVertices ? size_t(lightVertexCount()) : 0;
@@ -369,6 +402,8 @@ bool Renderer::iterate(int index, const std::function<bool()>& abandon)
     params_.iteration = uint32_t(index);
     params_.accumulated = iteration_;
     abandon_ = abandon;
+    device_.queue.enqueueFillBuffer(buffers_.queueCounters, 0, size_t(COUNTER_INDEX(COUNTER_RAYS_TRACED)) * sizeof(int),
+                                    sizeof(int));
     // This iteration's contributions so far, before accumulate folds them in.
     auto clearRadiance = [&] {
         size_t bytes = size_t(pixels_) * 16;
@@ -389,11 +424,13 @@ bool Renderer::iterate(int index, const std::function<bool()>& abandon)
     if (done == Batches::Abandoned) {
         clearRadiance(); // the running means keep the iterations before it
         device_.queue.finish();
+        rays_ += readCounter(COUNTER_RAYS_TRACED);
         if (profiling_) collectProfile();
         return false;
     }
     launch(accumulate_, size_t(pixels_));
     device_.queue.finish();
+    rays_ += readCounter(COUNTER_RAYS_TRACED);
     if (profiling_) collectProfile();
     ++iteration_;
     return true;
@@ -435,13 +472,6 @@ Image Renderer::image()
     return out;
 }
 
-uint64_t Renderer::nonFiniteCount()
-{
-    int count = 0;
-    device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE,
-                                    size_t(COUNTER_INDEX(COUNTER_NONFINITE)) * sizeof(int),
-                                    sizeof count, &count);
-    return uint64_t(uint32_t(count));
-}
+uint64_t Renderer::nonFiniteCount() { return readCounter(COUNTER_NONFINITE); }
 
 } // namespace wv

@@ -36,6 +36,9 @@ struct RenderSettings {
     float radiusAlpha = 0.75f;
     // Also keep an image per technique family (techniqueImages()).
     bool techniques = false;
+    // Rounds the host keeps enqueued beyond the one whose counters it waits
+    // for (Renderer::runPhase); -1 = the device type's default.
+    int roundsAhead = -1;
 };
 
 class Renderer {
@@ -67,6 +70,7 @@ public:
     const ProgramBuild& programBuild() const { return build_; }
     const LightTable& lights() const { return lights_; }
     int wavefront() const { return paths_.capacity; }
+    int roundsAhead() const { return roundsAhead_; }
     size_t deviceBytes() const;
     // Light paths per batch (bidirectional): all pixels unless the light
     // vertices of that many paths do not fit on the device.
@@ -107,7 +111,8 @@ private:
     std::function<bool()> abandon_; // iterate()'s, asked after every round
     // False if abandon_ said to stop.
     bool runPhase(Phase& phase, int firstSample, int count);
-    void round(Phase& phase, int parity, size_t generated, size_t issued, size_t rays);
+    void round(Phase& phase, int parity, size_t fresh, size_t live);
+    uint32_t readCounter(int counter); // blocking
     int lightVertexCount();
     void ensureLightVertexCapacity(size_t vertices);
     void setBatchConstants(int lightPaths);
@@ -140,7 +145,10 @@ private:
     uint64_t rays_ = 0;
     size_t localSize_ = 64;
     Phase cameraPhase_, lightPhase_;
-    cl::Kernel accumulate_;
+    cl::Kernel planRound_, accumulate_;
+    int roundsAhead_ = 0;
+    std::vector<int> phaseStartCounters_;             // the counters below COUNTER_PHASE_STATE at a phase's start
+    std::vector<std::vector<int>> roundCounters_; // the same, as read after rounds (roundsAhead_ + 1 of them)
     bool profiling_ = false;
     struct PendingLaunch {
         std::string kernel;
@@ -154,6 +162,9 @@ private:
 // Default wavefront capacity: ~256K paths on a CPU, 2M on a GPU, at most what
 // a quarter of the device's memory holds.
 int defaultWavefront(const DeviceInfo& device);
+// Rounds enqueued ahead by default: 2 on a GPU, 0 (a blocking read after
+// every round, launches sized by it) on a CPU.
+int defaultRoundsAhead(const DeviceInfo& device);
 // -DLIGHT_SELECT_STEPS for a light table of lightCount lights.
 std::string lightSelectOption(int lightCount);
 

@@ -92,10 +92,9 @@ typedef struct LaunchParams {
     int freeQueue;      /* FREE(parity): generate takes its slots from it */
     int nextRayQueue;   /* RAYS(1 - parity): paths that continue */
     int nextFreeQueue;  /* FREE(1 - parity): slots whose path ended */
-    int generateCount;  /* paths generate starts this round */
-    int firstSample;    /* the sample index of the first of them */
-    int rayQueueLength; /* continuing rays already in rayQueue */
     /* The phase */
+    int firstSample;     /* its samples are [firstSample, firstSample + samples) */
+    int samples;
     int cameraPaths;     /* 1: camera sub-paths, 0: light sub-paths */
     int firstSplatPath;  /* light paths from this index on splat onto the image (lt, bpt, vcm); the
                           * others did in an earlier pass, or never do (ppm, bpm) */

@@ -18,9 +18,18 @@
 #define QUEUE_FREE(parity) (4 + 2 * (parity)) /* slots whose path ended: to regenerate */
 #define QUEUE_COUNT 7
 
-#define COUNTER_LIGHT_VERTICES 7 /* light vertices stored (and wanted: may exceed the buffer) */
-#define COUNTER_NONFINITE 8      /* samples dropped because they were NaN or Inf (all iterations) */
-#define COUNTER_COUNT 9
+/* The round's plan, made on the device by plan_round (generate.cl) so that
+ * the host can enqueue rounds without reading counters in between. */
+#define COUNTER_ISSUED 7       /* samples of the phase handed out so far */
+#define COUNTER_ROUND_FIRST 8  /* this round's first new sample, counted from the phase's first */
+#define COUNTER_ROUND_NEW 9    /* paths generate starts this round */
+#define COUNTER_ROUND_RAYS 10  /* continuing rays in the ray queue: generate appends after them */
+#define COUNTER_PHASE_STATE 11 /* counters below this one start every phase at zero (FREE(0): all slots) */
+
+#define COUNTER_RAYS_TRACED 11    /* extended and shadow rays this iteration (as uint) */
+#define COUNTER_LIGHT_VERTICES 12 /* light vertices stored (and wanted: may exceed the buffer) */
+#define COUNTER_NONFINITE 13      /* samples dropped because they were NaN or Inf (all iterations) */
+#define COUNTER_COUNT 14
 
 #define COUNTER_STRIDE 16 /* ints: one 64-byte cache line per counter */
 #define COUNTER_INDEX(c) ((c) * COUNTER_STRIDE)

@@ -1,7 +1,8 @@
-/* generate: start new paths in the first `generateCount` free slots and
- * append their first rays to the ray queue. The host knows how many samples
- * were handed out and how long the ray queue is, so no atomics are needed:
- * item i takes sample firstSample + i and ray-queue entry rayQueueLength + i.
+/* generate: start new paths in the first free slots of the round, as many as
+ * plan_round decided, and append their first rays to the ray queue after the
+ * continuing ones: item i takes sample firstSample + ROUND_FIRST + i and
+ * ray-queue entry ROUND_RAYS + i, with no atomics.
+ *   plan_round      one work-item, first in every round (below);
  *   generate        camera paths, one per pixel (pixel = sample index), with a
  *                   jittered primary ray (box filter);
  *   generate_light  light paths (light path index = sample index) from a light
@@ -15,24 +16,52 @@
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
-INLINE int take_free_slot(__global int* queueItems, __global int* queueCounters, const LaunchParams* p)
+/* The round's plan: as many new paths as there are free slots and samples
+ * left in the phase; the rays the round traces counted (with the previous
+ * round's shadow rays); the queues the round fills emptied. Being on the
+ * device, it lets the host enqueue a round before the previous one has run
+ * (Renderer::runPhase): every kernel is launched over an upper bound of its
+ * queue and skips the items past its actual size. */
+__kernel void plan_round(RENDER_KERNEL_PARAMS)
+{
+    if (get_global_id(0) != 0)
+        return;
+    __global int* c = queueCounters;
+    int rays = c[COUNTER_INDEX(params.rayQueue)];
+    int issued = c[COUNTER_INDEX(COUNTER_ISSUED)];
+    int fresh = min(c[COUNTER_INDEX(params.freeQueue)], params.samples - issued);
+    c[COUNTER_INDEX(COUNTER_ROUND_FIRST)] = issued;
+    c[COUNTER_INDEX(COUNTER_ROUND_NEW)] = fresh;
+    c[COUNTER_INDEX(COUNTER_ROUND_RAYS)] = rays;
+    c[COUNTER_INDEX(COUNTER_ISSUED)] = issued + fresh;
+    c[COUNTER_INDEX(params.rayQueue)] = rays + fresh;
+    ((__global uint*)c)[COUNTER_INDEX(COUNTER_RAYS_TRACED)] += (uint)(rays + fresh + c[COUNTER_INDEX(QUEUE_SHADOW)]);
+    c[COUNTER_INDEX(QUEUE_HITS)] = 0;
+    c[COUNTER_INDEX(QUEUE_ESCAPED)] = 0;
+    c[COUNTER_INDEX(QUEUE_SHADOW)] = 0;
+    c[COUNTER_INDEX(params.nextRayQueue)] = 0;
+    c[COUNTER_INDEX(params.nextFreeQueue)] = 0;
+}
+
+/* The slot of new path i of the round (and its sample), or -1 past them. */
+INLINE int take_free_slot(__global int* queueItems, __global const int* queueCounters, const LaunchParams* p,
+                          int* sample)
 {
     int i = get_global_id(0);
-    if (i == 0)
-        queueCounters[COUNTER_INDEX(p->rayQueue)] = p->rayQueueLength + p->generateCount;
-    if (i >= p->generateCount)
+    if (i >= queueCounters[COUNTER_INDEX(COUNTER_ROUND_NEW)])
         return -1;
     int slot = queueItems[p->freeQueue * p->capacity + i];
-    queueItems[p->rayQueue * p->capacity + p->rayQueueLength + i] = slot;
+    queueItems[p->rayQueue * p->capacity + queueCounters[COUNTER_INDEX(COUNTER_ROUND_RAYS)] + i] = slot;
+    *sample = p->firstSample + queueCounters[COUNTER_INDEX(COUNTER_ROUND_FIRST)] + i;
     return slot;
 }
 
 __kernel void generate(RENDER_KERNEL_PARAMS)
 {
-    int slot = take_free_slot(queueItems, queueCounters, &params);
+    int sample;
+    int slot = take_free_slot(queueItems, queueCounters, &params, &sample);
     if (slot < 0)
         return;
-    int sample = params.firstSample + (int)get_global_id(0);
     Uniform4 u = rng_uniform4(params.seed, params.iteration, (uint)sample, 0u, 0u);
     Ray ray = camera_ray(camera, sample, u.y, u.z);
     store_ray(rayOrigins, rayDirections, slot, ray);
@@ -48,10 +77,10 @@ __kernel void generate(RENDER_KERNEL_PARAMS)
 
 __kernel void generate_light(RENDER_KERNEL_PARAMS)
 {
-    int slot = take_free_slot(queueItems, queueCounters, &params);
+    int lightPath;
+    int slot = take_free_slot(queueItems, queueCounters, &params, &lightPath);
     if (slot < 0)
         return;
-    int lightPath = params.firstSample + (int)get_global_id(0);
     Uniform4 u = rng_uniform4(params.seed, params.iteration, (uint)lightPath, 0u, 2u);
     Uniform4 v = rng_uniform4(params.seed, params.iteration, (uint)lightPath, 0u, 3u);
     EmissionSample e;
