@@ -8,14 +8,17 @@
 #      `wavevcm devices`;
 #   1. speed: every algorithm on the Cornell box and the caustics scene at
 #      512 x 512 for KIT_SECONDS (default 5) with --profile and --stats, and
-#      pt and vcm with --rounds-ahead 0 (the host waiting after every round);
+#      pt and vcm with --rounds-ahead 0 (the host waiting after every round)
+#      and at 1024 x 1024 (a wavefront of 1M paths), and with NVIDIA's
+#      compiler held to 64 registers (WAVEVCM_CL_OPTIONS=-cl-nv-maxrregcount=64);
+#   1b. registers: NVIDIA's own ptxas report per kernel (-cl-nv-verbose);
 #   2. ray casting: wavevcm_bench's extend/connect benchmarks on the Cornell
 #      box and the 130K- and 1M-triangle scenes (made by scripts/make_scenes.py),
 #      and its per-kernel benchmarks;
 #   3. images: every algorithm, 16 iterations at 128 x 128, as .pfm, for
 #      scripts/gpu_kit_compare.sh to compare with PoCL's here;
 #   4. correctness on the GPU: the GoogleTest suites that need no image files.
-# KIT_STEPS picks and orders them (default "speed rays images tests"; a
+# KIT_STEPS picks and orders them (default "speed registers rays images tests"; a
 # session that has the figures can run "tests images" first).
 # Writes under $OUT (else /tmp/gpu-kit-out): log.txt, bench-*.json,
 # gtest.xml, results.tar.gz (the images and --stats files).
@@ -33,7 +36,7 @@ main() {
 deadline=$((SECONDS + ${KIT_BUDGET:-450}))
 seconds=${KIT_SECONDS:-5}
 device=${KIT_DEVICE:-NVIDIA}
-steps=${KIT_STEPS:-speed rays images tests}
+steps=${KIT_STEPS:-speed registers rays images tests}
 left() { echo $((deadline - SECONDS)); }
 # Runs "$@" with what is left of the budget (at least $1 seconds needed).
 step() {
@@ -119,8 +122,31 @@ for alg in pt vcm; do
   step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" -d "$device" -t "$seconds" \
     --rounds-ahead 0 --profile --stats "$work/stats/cornell-box-ahead0-$alg.json" -o "$work/speed.pfm"
 done
+# A larger image: does a wavefront of 1M paths (1024 x 1024) keep the GPU
+# busier than 262K (512 x 512)? Samples/s in --stats says.
+for alg in pt vcm; do
+  step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" -d "$device" -t "$seconds" \
+    --width 1024 --height 1024 --stats "$work/stats/cornell-box-1024-$alg.json" -o "$work/speed.pfm"
+done
+# Registers cap occupancy (ptxas gives extend 128 on sm_90 through clang):
+# the same with NVIDIA's compiler told to stay within 64.
+for alg in pt vcm; do
+  WAVEVCM_CL_OPTIONS=-cl-nv-maxrregcount=64 step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf \
+    -a "$alg" -d "$device" -t "$seconds" --profile --stats "$work/stats/cornell-box-maxrreg64-$alg.json" -o "$work/speed.pfm"
+done
 # What came so far goes back even if the call is cut short later.
 tar -C "$work" -czf "$out/results.tar.gz" stats images
+}
+
+# 1b. What NVIDIA's own compiler makes of each program: registers, stack and
+# spills per kernel (-cl-nv-verbose puts ptxas's report in the build log).
+registers() {
+echo "== 1b. registers (NVIDIA's compiler, -cl-nv-verbose)"
+for alg in pt lt bpt ppm bpm vcm; do
+  CUDA_CACHE_DISABLE=1 WAVEVCM_CL_OPTIONS=-cl-nv-verbose WAVEVCM_BUILD_LOG=1 WAVEVCM_CACHE_DIR=off step 20 "$kit/bin/wavevcm" render \
+    scenes/caustics.gltf -a "$alg" -d "$device" -n 1 --width 64 --height 64 -q -o "$work/registers.pfm" 2>&1 |
+    grep -E "Compiling entry|Used [0-9]+ registers|spill" | sed "s/^/$alg: /"
+done
 }
 
 # 2. Ray casting and kernels.
@@ -164,8 +190,8 @@ step 60 "$kit/bin/wavevcm_tests" --gtest_filter="$suites" --gtest_output="xml:$o
 
 for s in $steps; do
   case $s in
-    speed|rays|images|tests) $s ;;
-    *) echo "gpu_kit_run: unknown step '$s' in KIT_STEPS (speed rays images tests)"; exit 1 ;;
+    speed|registers|rays|images|tests) $s ;;
+    *) echo "gpu_kit_run: unknown step '$s' in KIT_STEPS (speed registers rays images tests)"; exit 1 ;;
   esac
 done
 echo "gpu_kit_run: done, $(left) s of the budget left"

@@ -220,10 +220,20 @@ const char* cacheName(ProgramBuild::Cache cache)
     return "none";
 }
 
+// Driver-specific build options for experiments, appended to wavevcm's own
+// (e.g. NVIDIA's -cl-nv-verbose, which puts each kernel's registers in the
+// build log, or -cl-nv-maxrregcount=N); part of the cache key like the rest.
+static std::string extraOptions()
+{
+    const char* env = std::getenv("WAVEVCM_CL_OPTIONS");
+    return env && *env ? std::string(" ") + env : std::string();
+}
+
 ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, const std::string& source,
-                          const std::string& options)
+                          const std::string& wavevcmOptions)
 {
     auto start = std::chrono::steady_clock::now();
+    const std::string options = wavevcmOptions + extraOptions();
     ProgramBuild result;
     fs::path dir = cacheDir();
     if (driverCachesPrograms(device)) {
@@ -251,6 +261,9 @@ ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, 
                     options + "': " + clErrorName(e.err()) + "\n--- build log ---\n" +
                     buildLog(program, device.device) + "\n--- end of build log ---");
     }
+    if (const char* env = std::getenv("WAVEVCM_BUILD_LOG"); env && std::string(env) == "1")
+        std::fprintf(stderr, "wavevcm: build log on %s with options '%s':\n%s\n", device.name.c_str(), options.c_str(),
+                     buildLog(program, device.device).c_str());
     if (!result.cacheFile.empty() && storeCached(result.cacheFile, program)) result.cache = ProgramBuild::Cache::Wavevcm;
     result.program = program;
     result.seconds = secondsSince(start);
