@@ -223,6 +223,7 @@ void renderKernel(benchmark::State& state, Algorithm algorithm, const std::strin
     s.algorithm = algorithm;
     s.width = s.height = 128;
     s.wavefront = int(state.range(0));
+    s.roundsAhead = 0; // launches sized by the queues: items/s counts work, not upper bounds
     Renderer renderer(device, f.scene, f.bvh, s);
     renderer.iterate(); // warm-up: first launches compile work-group functions
     Renderer::KernelStats before = renderer.kernelStats().at(kernel);

@@ -94,8 +94,10 @@ elif [ -f "$dir/log.txt" ] && grep -q '^\[ RUN      \]' "$dir/log.txt"; then
   ok=$(grep -c '^\[       OK \]' "$dir/log.txt")
   skipped=$(grep -c '^\[  SKIPPED \]' "$dir/log.txt")
   echo "(no gtest.xml: the run was cut short) from log.txt: $ok passed, $skipped skipped, these failed:"
-  grep '^\[  FAILED  \] [A-Za-z]*\.[A-Za-z]* (' "$dir/log.txt" | sed 's/^/- /'
-  echo "unfinished: $(grep '^\[ RUN      \]' "$dir/log.txt" | tail -1 | cut -c14-)"
+  grep '^\[  FAILED  \] [A-Za-z0-9_]*\.[A-Za-z0-9_/]* (' "$dir/log.txt" | sed 's/^/- /'
+  # The test the budget cut short: a RUN line with no OK or FAILED after it.
+  last=$(grep -E '^\[ (RUN      |      OK |  FAILED  )\]' "$dir/log.txt" | tail -1)
+  case $last in "[ RUN      ]"*) echo "unfinished: ${last:13}" ;; esac
 else
   echo "(no gtest.xml or test log: the tests did not run)"
 fi

@@ -37,6 +37,12 @@ deadline=$((SECONDS + ${KIT_BUDGET:-450}))
 seconds=${KIT_SECONDS:-5}
 device=${KIT_DEVICE:-NVIDIA}
 steps=${KIT_STEPS:-speed registers rays images tests}
+for s in $steps; do
+  case $s in
+    speed|registers|rays|images|tests) ;;
+    *) echo "gpu_kit_run: unknown step '$s' in KIT_STEPS (speed registers rays images tests)"; exit 1 ;;
+  esac
+done
 left() { echo $((deadline - SECONDS)); }
 # Runs "$@" with what is left of the budget (at least $1 seconds needed).
 step() {
@@ -72,7 +78,8 @@ export OCL_ICD_VENDORS=$(mktemp -d)
 # Does the driver library $1 give a device matching $device?
 try_driver() {
   echo "$1" > "$OCL_ICD_VENDORS/kit.icd"
-  "$kit/bin/wavevcm" devices > /tmp/gpu-kit-devices.txt 2>&1 && grep -qi "$device" /tmp/gpu-kit-devices.txt
+  timeout --kill-after=5 60 "$kit/bin/wavevcm" devices > /tmp/gpu-kit-devices.txt 2>&1 &&
+    grep -qi "$device" /tmp/gpu-kit-devices.txt
 }
 if [ -n "${KIT_ICD:-}" ]; then
   try_driver "$KIT_ICD" || { cat /tmp/gpu-kit-devices.txt; echo "gpu_kit_run: no device matches '$device' with $KIT_ICD"; exit 2; }
@@ -188,12 +195,7 @@ suites+='-PathTracer.EveryBundledSceneRendersFinite' # textured-room's environme
 step 60 "$kit/bin/wavevcm_tests" --gtest_filter="$suites" --gtest_output="xml:$out/gtest.xml"
 }
 
-for s in $steps; do
-  case $s in
-    speed|registers|rays|images|tests) $s ;;
-    *) echo "gpu_kit_run: unknown step '$s' in KIT_STEPS (speed registers rays images tests)"; exit 1 ;;
-  esac
-done
+for s in $steps; do $s; done
 echo "gpu_kit_run: done, $(left) s of the budget left"
 }
 main 2>&1 | tee "$out/log.txt"

@@ -5,8 +5,8 @@
 // same rounds on the same slots and samples, so they must give the same
 // image (up to the order of float atomic adds: splats and merges) and count
 // the same rays. A wavefront of 256 paths for 1024 pixels makes every phase
-// regenerate slots over several rounds, and the bidirectional algorithms
-// (shorter light batches) run several phases per iteration.
+// regenerate slots over several rounds, and room for 700 light vertices
+// splits vcm's light paths into batches: several phases per iteration.
 #include "TestDevices.h"
 #include "bvh/Bvh.h"
 #include "render/Renderer.h"
@@ -30,9 +30,11 @@ Rendered renderWith(DeviceContext& device, const Scene& scene, const Bvh& bvh, A
     s.seed = 3;
     s.wavefront = 256;
     s.roundsAhead = roundsAhead;
+    s.maxLightVertices = 700;
     Renderer renderer(device, scene, bvh, s);
     EXPECT_EQ(renderer.roundsAhead(), roundsAhead);
     for (int i = 0; i < 2; ++i) renderer.iterate();
+    if (algorithm == Algorithm::VertexConnectionMerging) EXPECT_LT(renderer.lightPathBatch(), 32 * 32);
     return {renderer.image(), renderer.raysTraced()};
 }
 
@@ -52,7 +54,7 @@ TEST(Rounds, EnqueuedAheadGiveTheImageAndRaysOfWaitingForEach)
                 EXPECT_EQ(waiting.rays, 2u * 32 * 32);
             else
                 EXPECT_GT(waiting.rays, 2u * 32 * 32);
-            for (int ahead : {1, 3}) {
+            for (int ahead : {1, 2, 3}) {
                 SCOPED_TRACE("rounds ahead " + std::to_string(ahead));
                 Rendered r = renderWith(device, scene, bvh, a, ahead);
                 EXPECT_EQ(r.rays, waiting.rays);

@@ -175,6 +175,17 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     bindAll();
 }
 
+// Reads of the counters may still be in flight after an exception ended a
+// phase: they write roundCounters_, which must outlive them.
+Renderer::~Renderer()
+{
+    try {
+        device_.queue.finish();
+    } catch (const cl::Error&) {
+        // The device failed: nothing more will be written.
+    }
+}
+
 cl::Kernel Renderer::kernel(const char* name)
 {
     cl::Kernel k(build_.program, name);
@@ -241,6 +252,16 @@ uint32_t Renderer::readCounter(int counter)
 
 int Renderer::lightVertexCount() { return int(readCounter(COUNTER_LIGHT_VERTICES)); }
 
+// plan_round's count, 64 bits. In an abandoned iteration it lacks the last
+// round's shadow rays: no round after it counted them.
+uint64_t Renderer::raysTracedThisIteration()
+{
+    uint64_t rays = 0;
+    device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE,
+                                    size_t(COUNTER_INDEX(COUNTER_RAYS_TRACED)) * sizeof(int), sizeof rays, &rays);
+    return rays;
+}
+
 void Renderer::buildHashGrid()
 {
     grid_->build(buffers_.lightVertices, int(std::min(size_t(lightVertexCount()), vertexCapacity_)), radius_);
@@ -294,8 +315,10 @@ void Renderer::round(Phase& phase, int parity, size_t fresh, size_t live)
 // - N > 0 (GPUs): it enqueues round r and a non-blocking read of its
 //   counters, then waits for round r − N's: N rounds stay queued, so the GPU
 //   does not idle while the host waits and enqueues (on an H200, 27-51 % of
-//   the time at N = 0). Launches cover upper bounds; the up to N rounds
-//   enqueued after the last live one are empty and cheap.
+//   the time at N = 0). Launches cover upper bounds. The N rounds enqueued
+//   after the last live one are cheap: the first one's plan counts the last
+//   live round's shadow rays, and nothing else happens in them. abandon_ is
+//   asked as each round is enqueued, before it has run.
 bool Renderer::runPhase(Phase& phase, int firstSample, int count)
 {
     params_.cameraPaths = phase.cameraPaths ? 1 : 0;
@@ -403,7 +426,7 @@ bool Renderer::iterate(int index, const std::function<bool()>& abandon)
     params_.accumulated = iteration_;
     abandon_ = abandon;
     device_.queue.enqueueFillBuffer(buffers_.queueCounters, 0, size_t(COUNTER_INDEX(COUNTER_RAYS_TRACED)) * sizeof(int),
-                                    sizeof(int));
+                                    sizeof(uint64_t));
     // This iteration's contributions so far, before accumulate folds them in.
     auto clearRadiance = [&] {
         size_t bytes = size_t(pixels_) * 16;
@@ -424,13 +447,13 @@ bool Renderer::iterate(int index, const std::function<bool()>& abandon)
     if (done == Batches::Abandoned) {
         clearRadiance(); // the running means keep the iterations before it
         device_.queue.finish();
-        rays_ += readCounter(COUNTER_RAYS_TRACED);
+        rays_ += raysTracedThisIteration();
         if (profiling_) collectProfile();
         return false;
     }
     launch(accumulate_, size_t(pixels_));
     device_.queue.finish();
-    rays_ += readCounter(COUNTER_RAYS_TRACED);
+    rays_ += raysTracedThisIteration();
     if (profiling_) collectProfile();
     ++iteration_;
     return true;

@@ -46,6 +46,9 @@ public:
     // Builds (or loads from the cache) the kernels for the scene's features and
     // the algorithm, and uploads the scene. Throws wv::Error on any failure.
     Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
 
     // Runs one iteration (one sample per pixel; one light path per pixel for
     // the bidirectional algorithms) to completion and folds it into the
@@ -83,7 +86,8 @@ public:
 
     // Per kernel so far: device time (s) and work-items launched (queue
     // sizes: rays for extend and connect, path slots for generate and the
-    // shade, connect and merge kernels, pixels for accumulate). Needs a
+    // shade, connect and merge kernels, pixels for accumulate; with rounds
+    // ahead, the upper bounds launched instead: the wavefront). Needs a
     // profiling queue (see DeviceContext); empty otherwise.
     struct KernelStats {
         double seconds = 0;
@@ -108,11 +112,12 @@ private:
     cl::Kernel kernel(const char* name);
     void bindAll();
     void launch(cl::Kernel& kernel, size_t items);
-    std::function<bool()> abandon_; // iterate()'s, asked after every round
+    std::function<bool()> abandon_; // iterate()'s, asked once per round (runPhase)
     // False if abandon_ said to stop.
     bool runPhase(Phase& phase, int firstSample, int count);
     void round(Phase& phase, int parity, size_t fresh, size_t live);
     uint32_t readCounter(int counter); // blocking
+    uint64_t raysTracedThisIteration();
     int lightVertexCount();
     void ensureLightVertexCapacity(size_t vertices);
     void setBatchConstants(int lightPaths);

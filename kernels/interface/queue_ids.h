@@ -26,7 +26,7 @@
 #define COUNTER_ROUND_RAYS 10  /* continuing rays in the ray queue: generate appends after them */
 #define COUNTER_PHASE_STATE 11 /* counters below this one start every phase at zero (FREE(0): all slots) */
 
-#define COUNTER_RAYS_TRACED 11    /* extended and shadow rays this iteration (as uint) */
+#define COUNTER_RAYS_TRACED 11    /* extended and shadow rays this iteration (a ulong: two ints) */
 #define COUNTER_LIGHT_VERTICES 12 /* light vertices stored (and wanted: may exceed the buffer) */
 #define COUNTER_NONFINITE 13      /* samples dropped because they were NaN or Inf (all iterations) */
 #define COUNTER_COUNT 14

@@ -35,7 +35,7 @@ __kernel void plan_round(RENDER_KERNEL_PARAMS)
     c[COUNTER_INDEX(COUNTER_ROUND_RAYS)] = rays;
     c[COUNTER_INDEX(COUNTER_ISSUED)] = issued + fresh;
     c[COUNTER_INDEX(params.rayQueue)] = rays + fresh;
-    ((__global uint*)c)[COUNTER_INDEX(COUNTER_RAYS_TRACED)] += (uint)(rays + fresh + c[COUNTER_INDEX(QUEUE_SHADOW)]);
+    *(__global ulong*)&c[COUNTER_INDEX(COUNTER_RAYS_TRACED)] += (ulong)(rays + fresh + c[COUNTER_INDEX(QUEUE_SHADOW)]);
     c[COUNTER_INDEX(QUEUE_HITS)] = 0;
     c[COUNTER_INDEX(QUEUE_ESCAPED)] = 0;
     c[COUNTER_INDEX(QUEUE_SHADOW)] = 0;
