@@ -18,8 +18,9 @@
 #   3. images: every algorithm, 16 iterations at 128 x 128, as .pfm, for
 #      scripts/gpu_kit_compare.sh to compare with PoCL's here;
 #   4. correctness on the GPU: the GoogleTest suites that need no image files.
-# KIT_STEPS picks and orders them (default "speed registers rays images tests"; a
-# session that has the figures can run "tests images" first).
+# KIT_STEPS picks and orders them (default "speed registers rays images tests";
+# a session that has the figures can run "tests images" first; "ahead" sweeps
+# --rounds-ahead). KIT_TESTS replaces the tests' --gtest_filter.
 # Writes under $OUT (else /tmp/gpu-kit-out): log.txt, bench-*.json,
 # gtest.xml, results.tar.gz (the images and --stats files).
 # KIT_DEVICE (default NVIDIA) selects the device; KIT_ICD names the OpenCL
@@ -39,8 +40,8 @@ device=${KIT_DEVICE:-NVIDIA}
 steps=${KIT_STEPS:-speed registers rays images tests}
 for s in $steps; do
   case $s in
-    speed|registers|rays|images|tests) ;;
-    *) echo "gpu_kit_run: unknown step '$s' in KIT_STEPS (speed registers rays images tests)"; exit 1 ;;
+    speed|ahead|registers|rays|images|tests) ;;
+    *) echo "gpu_kit_run: unknown step '$s' in KIT_STEPS (speed ahead registers rays images tests)"; exit 1 ;;
   esac
 done
 left() { echo $((deadline - SECONDS)); }
@@ -145,6 +146,19 @@ done
 tar -C "$work" -czf "$out/results.tar.gz" stats images
 }
 
+# 1a. How many rounds to keep enqueued: --rounds-ahead 0 (wait for every
+# round's counters) to 8, without --profile's events (not in the default steps).
+ahead() {
+echo "== 1a. rounds ahead: ${seconds} s each at 512 x 512 on '$device'"
+for alg in pt vcm; do
+  for n in 0 1 2 4 8; do
+    step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" -d "$device" -t "$seconds" \
+      --rounds-ahead "$n" --stats "$work/stats/cornell-box-ahead$n-noprofile-$alg.json" -o "$work/speed.pfm"
+  done
+done
+tar -C "$work" -czf "$out/results.tar.gz" stats images
+}
+
 # 1b. What NVIDIA's own compiler makes of each program: registers, stack and
 # spills per kernel (-cl-nv-verbose puts ptxas's report in the build log).
 registers() {
@@ -192,7 +206,7 @@ suites='Bvh.*:HashGrid.*:Sampler.*:KernelInterface.*:KernelSources.*:ProgramBuil
 suites+=':Bidirectional.*:VertexMerging.*:Mis.*:BsdfMaterials.*:Bsdf.*:MultiDevice.*:DoubleSidedEmitter.*:HardCases.*'
 suites+=':Lights.*:Environment.*'
 suites+='-PathTracer.EveryBundledSceneRendersFinite' # textured-room's environment map is an image
-step 60 "$kit/bin/wavevcm_tests" --gtest_filter="$suites" --gtest_output="xml:$out/gtest.xml"
+step 60 "$kit/bin/wavevcm_tests" --gtest_filter="${KIT_TESTS:-$suites}" --gtest_output="xml:$out/gtest.xml"
 }
 
 for s in $steps; do $s; done

@@ -95,6 +95,23 @@ TEST(ProgramBuild, FailureReportsTheBuildLogWithFileAndLine)
     }
 }
 
+// NVIDIA's compiler ignores #line and counts lines of the whole source: the
+// log names them by kernel file and line instead. On PoCL, whose logs name
+// files already, this is the only check of the mapping.
+TEST(ProgramBuild, UnnamedLogLinesAreMappedToKernelFiles)
+{
+    TempDir dir("unnamed");
+    dir.write("inc.h", "#define X 1\n");
+    dir.write("main.cl", "#include \"inc.h\"\n\n__kernel void k(__global int* x)\n{\n    x[0] = y;\n}\n");
+    std::string source = expandKernelSources(dir.path.string(), {"main.cl"});
+    // Physical lines: #line 1 "main.cl", #line 1 "inc.h", #define, #line 2 "main.cl", "", __kernel, {, x[0] = y;
+    std::string log = "<kernel>:8:12: error: use of undeclared identifier 'y'\n<kernel>:3:9: note: here\n"
+                      "<kernel>:99:1: beyond the source\nmain.cl:5:12: already named\n";
+    EXPECT_EQ(attributeBuildLog(log, source), "main.cl:5:12: error: use of undeclared identifier 'y'\n"
+                                              "inc.h:1:9: note: here\n<kernel>:99:1: beyond the source\n"
+                                              "main.cl:5:12: already named\n");
+}
+
 // wavevcm's cache, on every device: on PoCL wavevcm uses it only when
 // POCL_KERNEL_CACHE=0, which buildProgram reads at each build (PoCL itself
 // may have read it earlier, at start-up; its own caching does not matter here).

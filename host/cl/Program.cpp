@@ -112,6 +112,46 @@ static std::string buildLog(const cl::Program& program, const cl::Device& device
     }
 }
 
+// Where each physical line of the expanded source came from, as "file:line"
+// by the #line directives before it ("" before the first).
+static std::vector<std::string> originalLocations(const std::string& source)
+{
+    static const std::regex lineDirective(R"re(^#line (\d+) "([^"]+)"$)re");
+    std::vector<std::string> where;
+    std::istringstream in(source);
+    std::string text, file;
+    int line = 0;
+    while (std::getline(in, text)) {
+        std::smatch m;
+        if (std::regex_match(text, m, lineDirective)) {
+            file = m[2].str();
+            line = std::stoi(m[1].str()) - 1; // the next line is line m[1]
+            where.push_back("");
+        } else {
+            ++line;
+            where.push_back(file.empty() ? "" : file + ":" + std::to_string(line));
+        }
+    }
+    return where;
+}
+
+std::string attributeBuildLog(const std::string& log, const std::string& source)
+{
+    static const std::regex unnamed(R"(<(kernel|source|stdin|input)>:(\d+))");
+    std::vector<std::string> where;
+    std::string out;
+    auto last = log.cbegin();
+    for (std::sregex_iterator it(log.begin(), log.end(), unnamed), end; it != end; ++it) {
+        if (where.empty()) where = originalLocations(source);
+        size_t line = std::stoul((*it)[2].str());
+        out.append(last, log.cbegin() + it->position());
+        out += line >= 1 && line <= where.size() && !where[line - 1].empty() ? where[line - 1] : it->str();
+        last = log.cbegin() + it->position() + it->length();
+    }
+    out.append(last, log.cend());
+    return out;
+}
+
 static double secondsSince(std::chrono::steady_clock::time_point start)
 {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -259,11 +299,11 @@ ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, 
     } catch (const cl::Error& e) {
         throw Error("kernel build failed on " + device.name + " (" + device.platformName + ") with options '" +
                     options + "': " + clErrorName(e.err()) + "\n--- build log ---\n" +
-                    buildLog(program, device.device) + "\n--- end of build log ---");
+                    attributeBuildLog(buildLog(program, device.device), source) + "\n--- end of build log ---");
     }
     if (const char* env = std::getenv("WAVEVCM_BUILD_LOG"); env && std::string(env) == "1")
         std::fprintf(stderr, "wavevcm: build log on %s with options '%s':\n%s\n", device.name.c_str(), options.c_str(),
-                     buildLog(program, device.device).c_str());
+                     attributeBuildLog(buildLog(program, device.device), source).c_str());
     if (!result.cacheFile.empty() && storeCached(result.cacheFile, program)) result.cache = ProgramBuild::Cache::Wavevcm;
     result.program = program;
     result.seconds = secondsSince(start);

@@ -21,6 +21,12 @@ std::string findKernelDir();
 // then kernelDir.
 std::string expandKernelSources(const std::string& kernelDir, const std::vector<std::string>& files);
 
+// A build log with the lines it names in the whole expanded source
+// ("<kernel>:4:12", as NVIDIA's compiler writes them: it ignores #line) turned
+// into the kernel files' own ("broken.cl:3:12"). Logs that already name files
+// (PoCL, rusticl) come back unchanged.
+std::string attributeBuildLog(const std::string& log, const std::string& expandedSource);
+
 struct ProgramBuild {
     // Which cache keeps the compiled program for the next run: wavevcm's, the
     // driver's own (PoCL's), or none (WAVEVCM_CACHE_DIR=off, or a driver that

@@ -43,8 +43,11 @@ __kernel void nee_irradiance(__global const Light* lights, __global const float*
 }
 
 /* Per sample: a direction towards the background by importance (d, pdf in
- * samples[2i]; radiance and whether looking d up gives the same radiance
- * and density in samples[2i + 1].w). */
+ * samples[4i]; radiance and whether looking d up gives the same radiance
+ * and density in samples[4i + 1].w); what the lookup found, for a failing
+ * test to show: its density, texel, u, and the rotation the kernel read in
+ * samples[4i + 2], its radiance and whether that alone agrees in
+ * samples[4i + 3]. */
 __kernel void environment_samples(__global const Light* lights, __constant const SceneInfo* scene,
                                   __global const float4* envRadiance, __global const float* envMarginalCdf,
                                   __global const float* envConditionalCdf, int n, __global float4* samples)
@@ -56,10 +59,15 @@ __kernel void environment_samples(__global const Light* lights, __constant const
     __global const Light* bg = &lights[scene->backgroundLight];
     Uniform4 u = rng_uniform4(3u, 0u, (uint)i, 0u, 0u);
     vec3 d, radiance;
-    float pdf = 0.0f, lookupPdf;
+    float pdf = 0.0f, lookupPdf, sinTheta;
     bool ok = sample_background(bg, scene, &env, u.x, u.y, &d, &radiance, &pdf);
     vec3 lookup = background_radiance(bg, scene, &env, d, &lookupPdf);
-    bool same = v3_is_zero(v3_sub(lookup, radiance)) && fabs(lookupPdf - pdf) <= 1e-4f * pdf;
-    samples[2 * i] = (float4)(to_float3(d), ok ? pdf : -1.0f);
-    samples[2 * i + 1] = (float4)(to_float3(radiance), same ? 1.0f : 0.0f);
+    bool sameRadiance = v3_is_zero(v3_sub(lookup, radiance));
+    bool same = sameRadiance && fabs(lookupPdf - pdf) <= 1e-4f * pdf;
+    int texel = env_texel(scene, d, &sinTheta);
+    float lookupU = atan2(d.x, -d.z) * (0.5f * INV_PI_F) + 0.5f - scene->envRotation;
+    samples[4 * i] = (float4)(to_float3(d), ok ? pdf : -1.0f);
+    samples[4 * i + 1] = (float4)(to_float3(radiance), same ? 1.0f : 0.0f);
+    samples[4 * i + 2] = (float4)(lookupPdf, (float)texel, lookupU, scene->envRotation);
+    samples[4 * i + 3] = (float4)(to_float3(lookup), sameRadiance ? 1.0f : 0.0f);
 }
