@@ -34,7 +34,7 @@ static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severa
         ->check(CLI::Range(1, std::numeric_limits<int>::max()));
     command->add_option("--rounds-ahead", o.roundsAhead,
                         "rounds enqueued before waiting for a round's counters; 0: wait after each and size "
-                        "launches by them (default: 2 on a GPU, 0 on a CPU)")
+                        "launches by them (the default)")
         ->check(CLI::Range(0, 16));
     command->add_option("--radius-factor", o.radiusFactor,
                         "merge radius of the first iteration, times the scene's bounding-sphere radius")

@@ -23,7 +23,7 @@ struct RenderOptions {
     int maxPathLength = 10;
     unsigned seed = 0;
     int wavefront = 0;
-    int roundsAhead = -1; // --rounds-ahead N; -1 = by device type
+    int roundsAhead = 0; // --rounds-ahead N
     double radiusFactor = 0.003, radiusAlpha = 0.75;
     std::string aov; // "techniques" or empty
     std::string reference, errorLog; // --reference REF --error-log LOG.csv

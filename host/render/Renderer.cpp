@@ -60,8 +60,6 @@ int defaultWavefront(const DeviceInfo& device)
     return int(std::max<size_t>(1024, std::min(wanted, fits)));
 }
 
-int defaultRoundsAhead(const DeviceInfo& device) { return (device.type & CL_DEVICE_TYPE_GPU) ? 2 : 0; }
-
 static size_t roundUp(size_t x, size_t multiple) { return (x + multiple - 1) / multiple * multiple; }
 
 static PathState makePathState(DeviceContext& device, const RenderSettings& s, KernelBuffers& buffers)
@@ -127,7 +125,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
 
     // The rounds: plan_round, and the host's view of the counters.
     planRound_ = kernel("plan_round");
-    roundsAhead_ = settings.roundsAhead >= 0 ? settings.roundsAhead : defaultRoundsAhead(device.info);
+    roundsAhead_ = settings.roundsAhead;
     phaseStartCounters_.assign(COUNTER_INDEX(COUNTER_PHASE_STATE), 0);
     phaseStartCounters_[COUNTER_INDEX(QUEUE_FREE(0))] = paths_.capacity;
     roundCounters_.assign(size_t(roundsAhead_) + 1, std::vector<int>(COUNTER_INDEX(COUNTER_PHASE_STATE)));
@@ -308,17 +306,18 @@ void Renderer::round(Phase& phase, int parity, size_t fresh, size_t live)
 // Runs paths for samples [firstSample, firstSample + count) to completion,
 // in rounds. The host needs the counters to see when the phase is over, and
 // reads them in one of two ways (RenderSettings::roundsAhead):
-// - 0 (CPU devices): after every round, blocking, and sizes the next round's
-//   launches by them (OpenCL 1.2 has no indirect dispatch). Launching over
-//   the full capacity instead cost more on PoCL than the ~70 µs wait: most
-//   rounds have few live paths, and every work-item of a launch costs there.
-// - N > 0 (GPUs): it enqueues round r and a non-blocking read of its
-//   counters, then waits for round r − N's: N rounds stay queued, so the GPU
-//   does not idle while the host waits and enqueues (on an H200, 27-51 % of
-//   the time at N = 0). Launches cover upper bounds. The N rounds enqueued
-//   after the last live one are cheap: the first one's plan counts the last
-//   live round's shadow rays, and nothing else happens in them. abandon_ is
-//   asked as each round is enqueued, before it has run.
+// - 0 (the default): after every round, blocking, and sizes the next round's
+//   launches by them (OpenCL 1.2 has no indirect dispatch).
+// - N > 0: it enqueues round r and a non-blocking read of its counters, then
+//   waits for round r − N's, so N rounds stay queued while the host waits.
+//   Launches cover upper bounds. The N rounds enqueued after the last live
+//   one are cheap: the first one's plan counts the last live round's shadow
+//   rays, and nothing else happens in them. abandon_ is asked as each round
+//   is enqueued, before it has run.
+// Measured, N = 0 is faster on both devices there are figures for: on PoCL
+// (N = 2: 0.8x) every launched work-item costs, most rounds have few live
+// paths; on the H200 (N = 1-8: 0.67-0.92x for pt, 0.74-0.88x for vcm) the
+// GPU is idle between rounds either way at 512 x 512 (README, "On a GPU").
 bool Renderer::runPhase(Phase& phase, int firstSample, int count)
 {
     params_.cameraPaths = phase.cameraPaths ? 1 : 0;

@@ -37,8 +37,9 @@ struct RenderSettings {
     // Also keep an image per technique family (techniqueImages()).
     bool techniques = false;
     // Rounds the host keeps enqueued beyond the one whose counters it waits
-    // for (Renderer::runPhase); -1 = the device type's default.
-    int roundsAhead = -1;
+    // for (Renderer::runPhase); 0 waits after every round, the faster way on
+    // PoCL and on the H200 alike.
+    int roundsAhead = 0;
 };
 
 class Renderer {
@@ -167,9 +168,6 @@ private:
 // Default wavefront capacity: ~256K paths on a CPU, 2M on a GPU, at most what
 // a quarter of the device's memory holds.
 int defaultWavefront(const DeviceInfo& device);
-// Rounds enqueued ahead by default: 2 on a GPU, 0 (a blocking read after
-// every round, launches sized by it) on a CPU.
-int defaultRoundsAhead(const DeviceInfo& device);
 // -DLIGHT_SELECT_STEPS for a light table of lightCount lights.
 std::string lightSelectOption(int lightCount);
 
