@@ -8,9 +8,10 @@
 #      `wavevcm devices`;
 #   1. speed: every algorithm on the Cornell box and the caustics scene at
 #      512 x 512 for KIT_SECONDS (default 5) with --profile and --stats, and
-#      pt and vcm with --rounds-ahead 0 (the host waiting after every round)
-#      and at 1024 x 1024 (a wavefront of 1M paths), and with NVIDIA's
-#      compiler held to 64 registers (WAVEVCM_CL_OPTIONS=-cl-nv-maxrregcount=64);
+#      pt and vcm at 1024 x 1024 (a wavefront of 1M paths), pt with 1, 4
+#      and 8 samples per iteration, and pt and vcm with NVIDIA's compiler
+#      held to 64 registers (WAVEVCM_CL_OPTIONS=-cl-nv-maxrregcount=64);
+#   1a. (not by default) --rounds-ahead 0 to 8 for pt and vcm;
 #   1b. registers: NVIDIA's own ptxas report per kernel (-cl-nv-verbose);
 #   2. ray casting: wavevcm_bench's extend/connect benchmarks on the Cornell
 #      box and the 130K- and 1M-triangle scenes (made by scripts/make_scenes.py),
@@ -124,17 +125,17 @@ for alg in $algorithms; do
       --profile --stats "$work/stats/$scene-$alg.json" -o "$work/speed.pfm"
   done
 done
-# The host waiting for every round's counters (--rounds-ahead 0, the CPU's
-# way) against keeping rounds enqueued (the GPU default, 2).
-for alg in pt vcm; do
-  step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" -d "$device" -t "$seconds" \
-    --rounds-ahead 0 --profile --stats "$work/stats/cornell-box-ahead0-$alg.json" -o "$work/speed.pfm"
-done
 # A larger image: does a wavefront of 1M paths (1024 x 1024) keep the GPU
 # busier than 262K (512 x 512)? Samples/s in --stats says.
 for alg in pt vcm; do
   step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" -d "$device" -t "$seconds" \
     --width 1024 --height 1024 --stats "$work/stats/cornell-box-1024-$alg.json" -o "$work/speed.pfm"
+done
+# More samples per iteration (pt): K times the paths per launch at 512 x 512,
+# against one, both without --profile's events (samples/s in --stats).
+for k in 1 4 8; do
+  step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a pt -d "$device" -t "$seconds" \
+    --samples-per-iteration "$k" --stats "$work/stats/cornell-box-spi$k-pt.json" -o "$work/speed.pfm"
 done
 # Registers cap occupancy (ptxas gives extend 128 on sm_90 through clang):
 # the same with NVIDIA's compiler told to stay within 64.

@@ -243,19 +243,28 @@ int runRender(const RenderOptions& o)
                         "x" + std::to_string(settings.height) + " (set --width/--height)");
     }
 
-    // The job's iterations: -n counts them all, whichever rank renders them;
-    // rank r takes the global indices r, r + K, r + 2K, … (so the random
+    // The job's iterations: -n counts their samples per pixel
+    // (--samples-per-iteration in each), whichever rank renders them; rank r
+    // of R takes the global indices r, r + R, r + 2R, … (so the random
     // numbers and merge radii are those of one process rendering them all).
     // -t is the job's budget: every rank renders until it is spent, from the
     // moment all of them are ready.
-    const int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
+    const int perIteration = settings.samplesPerIteration;
+    int spp = o.spp > 0 ? o.spp : (o.seconds > 0 ? 0 : 16);
+    if (spp % perIteration != 0) {
+        if (o.spp > 0)
+            throw Error("--spp " + std::to_string(spp) + " is not a multiple of --samples-per-iteration " +
+                        std::to_string(perIteration));
+        spp += perIteration - spp % perIteration; // the default 16, rounded up
+    }
+    const int iterationsWanted = spp / perIteration;
 
     // Each selected device as its pipelines (one renderer each); a job of
     // under 4 iterations per rank keeps one, since an iteration is never
     // split and one on half of the cores takes ~1.6x as long as on all.
     auto pipelinesOf = [&](const DeviceInfo& d) {
         if (o.pipelines > 0) return o.pipelines;
-        return spp > 0 && spp < 4 * ranks ? 1 : defaultPipelines(d);
+        return iterationsWanted > 0 && iterationsWanted < 4 * ranks ? 1 : defaultPipelines(d);
     };
     std::vector<DeviceInfo> chosen;
     for (const DeviceInfo& d : selected)
@@ -277,8 +286,8 @@ int runRender(const RenderOptions& o)
         std::fprintf(stderr, "wavevcm: MPI job of %d ranks; rank 0 on %s writes the outputs\n", ranks,
                      cluster::hostName().c_str());
 
-    const IterationSchedule schedule{rank, ranks, spp};
-    ProgressBar progress(!quiet && ::isatty(STDERR_FILENO), spp, o.seconds);
+    const IterationSchedule schedule{rank, ranks, iterationsWanted};
+    ProgressBar progress(!quiet && ::isatty(STDERR_FILENO), iterationsWanted, o.seconds);
     std::vector<int> iterationsByRank(size_t(ranks), 0);
     // Render time excludes the error log's work (reading the image back and
     // comparing it; with K pipelines 1/K of it, the others rendering
@@ -352,11 +361,17 @@ int runRender(const RenderOptions& o)
     }
     WritingFiles writing;
     writeOutputs(o, settings, job);
-    double samplesPerSecond = double(settings.width) * settings.height * job.iterations / renderSeconds;
+    // Camera samples: per pixel, iterations × samples per iteration.
+    const double samplesPerIterationOfImage = double(settings.width) * settings.height * perIteration;
+    double samplesPerSecond = samplesPerIterationOfImage * job.iterations / renderSeconds;
     double raysPerSecond = double(job.rays) / renderSeconds;
-    if (!quiet)
-        std::fprintf(stderr, "wavevcm: %d iterations in %.2f s (%.3g samples/s, %.3g rays/s) -> %s\n",
-                     job.iterations, renderSeconds, samplesPerSecond, raysPerSecond, o.output.c_str());
+    if (!quiet) {
+        std::string spp = perIteration > 1 ? " (" + std::to_string(job.iterations * perIteration) +
+                                                 " samples per pixel)"
+                                           : "";
+        std::fprintf(stderr, "wavevcm: %d iterations%s in %.2f s (%.3g samples/s, %.3g rays/s) -> %s\n",
+                     job.iterations, spp.c_str(), renderSeconds, samplesPerSecond, raysPerSecond, o.output.c_str());
+    }
     for (size_t i = 0; i < render.deviceCount() && o.profile; ++i) {
         const Renderer& renderer = render.renderer(i);
         double total = 0;
@@ -398,6 +413,7 @@ int runRender(const RenderOptions& o)
             {"kernel_cache_hit", render.renderer(0).programBuild().fromCache},
             {"wavefront", render.renderer(0).wavefront()},
             {"rounds_ahead", render.renderer(0).roundsAhead()},
+            {"samples_per_iteration", perIteration},
             {"merge_radius", render.renderer(0).mergeRadius()},
             {"scene_origin", {scene.origin[0], scene.origin[1], scene.origin[2]}},
             {"device_bytes", deviceBytes},
@@ -414,8 +430,7 @@ int runRender(const RenderOptions& o)
                  {"compute_units", chosen[i].computeUnits},
                  {"iterations", render.renderer(i).iterations()},
                  {"device_bytes", render.renderer(i).deviceBytes()},
-                 {"samples_per_second",
-                  double(settings.width) * settings.height * render.renderer(i).iterations() / renderSeconds}});
+                 {"samples_per_second", samplesPerIterationOfImage * render.renderer(i).iterations() / renderSeconds}});
         // Each rank's share of the job (one entry without mpirun).
         stats["rank_stats"] = nlohmann::json::array();
         for (int r = 0; r < ranks; ++r) {
@@ -428,7 +443,7 @@ int runRender(const RenderOptions& o)
                  {"devices", names},
                  {"iterations", rankIterations[size_t(r)]},
                  {"render_seconds", rankSeconds[size_t(r)]},
-                 {"samples_per_second", double(settings.width) * settings.height * rankIterations[size_t(r)] /
+                 {"samples_per_second", samplesPerIterationOfImage * rankIterations[size_t(r)] /
                                             std::max(rankSeconds[size_t(r)], 1e-9)}});
         }
         // Device memory per texture (one float4 per texel).

@@ -36,6 +36,10 @@ static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severa
                         "rounds enqueued before waiting for a round's counters; 0: wait after each and size "
                         "launches by them (the default)")
         ->check(CLI::Range(0, 16));
+    command->add_option("--samples-per-iteration", o.samplesPerIteration,
+                        "camera samples per pixel in one iteration, pt and el (default 1): more paths per "
+                        "launch for a GPU; --spp counts samples, so it must be a multiple")
+        ->check(CLI::Range(1, 64));
     command->add_option("--radius-factor", o.radiusFactor,
                         "merge radius of the first iteration, times the scene's bounding-sphere radius")
         ->capture_default_str();

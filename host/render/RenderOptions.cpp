@@ -117,6 +117,7 @@ RenderSettings renderSettings(const RenderOptions& o, const Scene& scene)
     settings.seed = o.seed;
     settings.wavefront = o.wavefront;
     settings.roundsAhead = o.roundsAhead;
+    settings.samplesPerIteration = o.samplesPerIteration;
     settings.radiusFactor = float(o.radiusFactor);
     settings.radiusAlpha = float(o.radiusAlpha);
     settings.techniques = o.aov == "techniques";

@@ -24,6 +24,7 @@ struct RenderOptions {
     unsigned seed = 0;
     int wavefront = 0;
     int roundsAhead = 0; // --rounds-ahead N
+    int samplesPerIteration = 1; // --samples-per-iteration K
     double radiusFactor = 0.003, radiusAlpha = 0.75;
     std::string aov; // "techniques" or empty
     std::string reference, errorLog; // --reference REF --error-log LOG.csv

@@ -67,7 +67,7 @@ static PathState makePathState(DeviceContext& device, const RenderSettings& s, K
     int wavefront = s.wavefront > 0 ? s.wavefront : defaultWavefront(device.info);
     // Launches cover queue sizes in work-groups of 64, so the capacity is a
     // multiple of 64, and no larger than one iteration needs.
-    wavefront = std::min(wavefront, s.width * s.height);
+    wavefront = int(std::min<int64_t>(wavefront, int64_t(s.width) * s.height * s.samplesPerIteration));
     return PathState(device, int(roundUp(size_t(wavefront), 64)), buffers);
 }
 
@@ -77,6 +77,13 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
 {
     Algorithm algorithm = settings.algorithm;
     bidirectional_ = algorithm != Algorithm::EyeLight && algorithm != Algorithm::PathTracing;
+    if (settings.samplesPerIteration < 1 || (bidirectional_ && settings.samplesPerIteration > 1))
+        throw Error("--samples-per-iteration " + std::to_string(settings.samplesPerIteration) +
+                    ": pt and el take 1 or more; lt and the bidirectional algorithms take 1 (their iteration is one "
+                    "light path per pixel)");
+    if (int64_t(settings.width) * settings.height * settings.samplesPerIteration > INT32_MAX)
+        throw Error("--samples-per-iteration " + std::to_string(settings.samplesPerIteration) +
+                    ": more samples in one iteration than a 32-bit index counts");
     // Which techniques the bidirectional algorithms combine (SmallVCM's useVC/useVM).
     useVC_ = algorithm == Algorithm::Bidirectional || algorithm == Algorithm::VertexConnectionMerging;
     useVM_ = algorithm == Algorithm::ProgressivePhotonMapping || algorithm == Algorithm::BidirectionalPhotonMapping ||
@@ -89,14 +96,14 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     sceneBuffers_.bind(b);
     Camera camera = makeCamera(scene.camera, settings.width, settings.height);
     b.camera = uploadBuffer(device, &camera, sizeof camera, "the camera");
-    size_t imageBytes = size_t(pixels_) * 16;
-    b.pixelRadiance = deviceBuffer(device, imageBytes, "the iteration's radiance");
+    size_t imageBytes = size_t(pixels_) * 16, samplesBytes = imageBytes * size_t(settings.samplesPerIteration);
+    b.pixelRadiance = deviceBuffer(device, samplesBytes, "the iteration's radiance");
     b.connectionRadiance = deviceBuffer(device, imageBytes, "the iteration's radiance");
     b.mergingRadiance = deviceBuffer(device, imageBytes, "the iteration's radiance");
     b.splatRadiance = deviceBuffer(device, imageBytes, "the light-tracing splats");
     b.framebuffer = deviceBuffer(device, imageBytes, "the framebuffer");
-    for (cl::Buffer* i : {&b.pixelRadiance, &b.connectionRadiance, &b.mergingRadiance, &b.splatRadiance,
-                          &b.framebuffer})
+    device.queue.enqueueFillBuffer(b.pixelRadiance, 0.0f, 0, samplesBytes);
+    for (cl::Buffer* i : {&b.connectionRadiance, &b.mergingRadiance, &b.splatRadiance, &b.framebuffer})
         device.queue.enqueueFillBuffer(*i, 0.0f, 0, imageBytes);
     if (settings.techniques) {
         b.familyMeans = deviceBuffer(device, 3 * imageBytes, "the technique images");
@@ -120,6 +127,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     params_.maxPathLength = settings.maxPathLength;
     params_.lightTracePaths = float(pixels_); // light paths per iteration
     params_.pixels = pixels_;
+    params_.samplesPerIteration = settings.samplesPerIteration;
     params_.techniques = settings.techniques ? 1 : 0;
     params_.storeVertices = useVC_ || useVM_ ? 1 : 0;
 
@@ -199,7 +207,8 @@ void Renderer::bindAll()
 
 size_t Renderer::deviceBytes() const
 {
-    return sceneBuffers_.bytes + paths_.bytes + size_t(pixels_) * (settings_.techniques ? 128 : 80) +
+    return sceneBuffers_.bytes + paths_.bytes +
+           size_t(pixels_) * (settings_.techniques ? 128 : 80) + size_t(pixels_) * 16 * (settings_.samplesPerIteration - 1) +
            (bidirectional_ ? vertexCapacity_ * sizeof(LightVertex) + size_t(pixels_) * sizeof(int) : 0) +
            (grid_ ? vertexCapacity_ * HashGrid::kBytesPerVertex : 0);
 }
@@ -422,20 +431,20 @@ bool Renderer::iterate(int index, const std::function<bool()>& abandon)
 {
     index_ = index;
     params_.iteration = uint32_t(index);
-    params_.accumulated = iteration_;
+    params_.accumulated = iteration_ * settings_.samplesPerIteration;
     abandon_ = abandon;
     device_.queue.enqueueFillBuffer(buffers_.queueCounters, 0, size_t(COUNTER_INDEX(COUNTER_RAYS_TRACED)) * sizeof(int),
                                     sizeof(uint64_t));
     // This iteration's contributions so far, before accumulate folds them in.
     auto clearRadiance = [&] {
         size_t bytes = size_t(pixels_) * 16;
-        for (cl::Buffer* b : {&buffers_.pixelRadiance, &buffers_.connectionRadiance, &buffers_.mergingRadiance,
-                              &buffers_.splatRadiance})
+        device_.queue.enqueueFillBuffer(buffers_.pixelRadiance, 0.0f, 0, bytes * size_t(settings_.samplesPerIteration));
+        for (cl::Buffer* b : {&buffers_.connectionRadiance, &buffers_.mergingRadiance, &buffers_.splatRadiance})
             device_.queue.enqueueFillBuffer(*b, 0.0f, 0, bytes);
     };
     Batches done = Batches::Done;
     if (!bidirectional_) {
-        done = runPhase(cameraPhase_, 0, pixels_) ? Batches::Done : Batches::Abandoned;
+        done = runPhase(cameraPhase_, 0, pixels_ * settings_.samplesPerIteration) ? Batches::Done : Batches::Abandoned;
     } else {
         while ((done = renderBatches()) == Batches::Restart) {
             ++restartedIterations_;

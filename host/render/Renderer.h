@@ -40,6 +40,11 @@ struct RenderSettings {
     // for (Renderer::runPhase); 0 waits after every round, the faster way on
     // PoCL and on the H200 alike.
     int roundsAhead = 0;
+    // Camera samples per pixel in one iteration (pt and el only): more paths
+    // per launch for a device that one sample of the image leaves idle.
+    // Sample k of iteration i is sample i·K + k of the pixel, so the image
+    // after N iterations is that of N·K iterations of one sample.
+    int samplesPerIteration = 1;
 };
 
 class Renderer {
@@ -63,6 +68,7 @@ public:
     void iterate() { iterate(iteration_); }
 
     int iterations() const { return iteration_; } // iterations folded into image()
+    int samplesPerIteration() const { return settings_.samplesPerIteration; } // per pixel
     uint64_t raysTraced() const { return rays_; } // extended and shadow rays, all iterations
     Image image();
     // The running means of the unidirectional (emission hits, next-event

@@ -47,7 +47,7 @@ namespace wv {
 #define PATH_STATE_BUFFERS(X)                                                                              \
     X(__global, float4, rayOrigins, 1)                                                                     \
     X(__global, float4, rayDirections, 1)    /* w = tMax */                                                \
-    X(__global, int, pathPixel, 1)           /* the sample: pixel of a camera path, index of a light path */ \
+    X(__global, int, pathPixel, 1)           /* the sample: of a camera path (sample_pixel), index of a light path */ \
     X(__global, int, pathDepth, 1)           /* segments traced before the current ray (path_state.h) */   \
     X(__global, float4, pathThroughput, 1)                                                                 \
     X(__global, float, pathPrevPdf, 1)       /* pt: solid-angle pdf of the last BSDF sample, 0 = delta */  \
@@ -66,7 +66,8 @@ namespace wv {
 
 /* Per pixel: this iteration's sample by technique family, and the running means. */
 #define IMAGE_BUFFERS(X)                                                                                   \
-    X(__global, float4, pixelRadiance, 0)      /* unidirectional: emission hits, NEE, background */        \
+    X(__global, float4, pixelRadiance, 0)      /* unidirectional: emission hits, NEE, background; per \
+                                                  camera sample (samplesPerIteration per pixel) */         \
     X(__global, float4, connectionRadiance, 0) /* vertex connection, camera side */                        \
     X(__global, float4, mergingRadiance, 0)    /* vertex merging */                                        \
     X(__global, float4, splatRadiance, 0)      /* light tracing's splats (float compare-and-swap adds) */  \
@@ -100,7 +101,7 @@ typedef struct LaunchParams {
                           * others did in an earlier pass, or never do (ppm, bpm) */
     /* The iteration and light-path batch */
     uint iteration;       /* the global index of this iteration (random numbers, merge radius) */
-    int accumulated;      /* iterations already in this renderer's running means */
+    int accumulated;      /* samples per pixel already in this renderer's running means */
     int firstLightPath;   /* light path index of the batch's first path */
     int vertexCapacity;   /* lightVertices' length */
     float vmWeightFactor; /* Georgiev's report, eq. 20: η_VCM = π r² N_light, 0 without merging */
@@ -113,6 +114,7 @@ typedef struct LaunchParams {
     int maxPathLength;     /* segments of a full path (path_state.h) */
     float lightTracePaths; /* light paths per iteration, for light tracing's MIS */
     int pixels;
+    int samplesPerIteration; /* camera samples per pixel in one iteration (pt, el; else 1): path_state.h */
     int storeVertices; /* light paths: keep vertices for connection and merging */
     int techniques;    /* accumulate: running means per technique family too */
 } LaunchParams;

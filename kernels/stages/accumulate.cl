@@ -1,7 +1,10 @@
-/* accumulate: fold this iteration's sample of each pixel into the running
- * mean, mean_i = mean_{i-1} + (x - mean_{i-1}) / i, which keeps the
- * framebuffer in the range of the samples at any iteration count, and clear
- * the iteration's buffers. The sample is the sum of what the technique
+/* accumulate: fold this iteration's samples of each pixel into the running
+ * mean one at a time, mean_i = mean_{i-1} + (x - mean_{i-1}) / i, which
+ * keeps the framebuffer in the range of the samples at any iteration count,
+ * and clear the iteration's buffers. With samplesPerIteration K > 1 (pt,
+ * el) pixelRadiance holds K samples per pixel (path_state.h: sample_pixel),
+ * folded in pass order: the same arithmetic as K iterations of one. A
+ * sample is the sum of what the technique
  * families added: unidirectional (emission hits, next-event estimation,
  * background), vertex connection (connections, light-tracing splats) and
  * vertex merging; with `techniques` each family also gets a running mean of
@@ -31,20 +34,25 @@ __kernel void accumulate(RENDER_KERNEL_PARAMS)
     int pixel = get_global_id(0);
     if (pixel >= params.pixels)
         return;
-    vec3 unidirectional = take(pixelRadiance, pixel);
-    vec3 connection = v3_add(take(connectionRadiance, pixel), take(splatRadiance, pixel));
-    vec3 merging = take(mergingRadiance, pixel);
-    vec3 x = v3_add(v3_add(unidirectional, connection), merging);
-    bool finite = v3_is_finite(x);
-    if (!finite) {
-        atomic_inc(&queueCounters[COUNTER_INDEX(COUNTER_NONFINITE)]);
-        x = unidirectional = connection = merging = v3s(0.0f);
-    }
-    float inv = 1.0f / (float)(params.accumulated + 1);
-    update_mean(framebuffer, pixel, x, inv);
-    if (params.techniques) {
-        update_mean(familyMeans, 3 * pixel, unidirectional, inv);
-        update_mean(familyMeans, 3 * pixel + 1, connection, inv);
-        update_mean(familyMeans, 3 * pixel + 2, merging, inv);
+    for (int k = 0; k < params.samplesPerIteration; ++k) {
+        vec3 unidirectional = take(pixelRadiance, k * params.pixels + pixel);
+        vec3 connection = v3s(0.0f), merging = v3s(0.0f); /* the bidirectional algorithms: K = 1 */
+        if (k == 0) {
+            connection = v3_add(take(connectionRadiance, pixel), take(splatRadiance, pixel));
+            merging = take(mergingRadiance, pixel);
+        }
+        vec3 x = v3_add(v3_add(unidirectional, connection), merging);
+        bool finite = v3_is_finite(x);
+        if (!finite) {
+            atomic_inc(&queueCounters[COUNTER_INDEX(COUNTER_NONFINITE)]);
+            x = unidirectional = connection = merging = v3s(0.0f);
+        }
+        float inv = 1.0f / (float)(params.accumulated + k + 1);
+        update_mean(framebuffer, pixel, x, inv);
+        if (params.techniques) {
+            update_mean(familyMeans, 3 * pixel, unidirectional, inv);
+            update_mean(familyMeans, 3 * pixel + 1, connection, inv);
+            update_mean(familyMeans, 3 * pixel + 2, merging, inv);
+        }
     }
 }

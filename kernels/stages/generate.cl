@@ -62,8 +62,9 @@ __kernel void generate(RENDER_KERNEL_PARAMS)
     int slot = take_free_slot(queueItems, queueCounters, &params, &sample);
     if (slot < 0)
         return;
-    Uniform4 u = rng_uniform4(params.seed, params.iteration, (uint)sample, 0u, 0u);
-    Ray ray = camera_ray(camera, sample, u.y, u.z);
+    int pixel = sample_pixel(&params, sample);
+    Uniform4 u = rng_uniform4(params.seed, sample_index(&params, sample), (uint)pixel, 0u, 0u);
+    Ray ray = camera_ray(camera, pixel, u.y, u.z);
     store_ray(rayOrigins, rayDirections, slot, ray);
     pathPixel[slot] = sample;
     pathDepth[slot] = 0;

@@ -35,7 +35,8 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
     vec2 bary = load_vec2(b->hitBary, slot);
     SurfaceHit hit = scene_surface_hit(b, tri, bary, wo);
     int depth = hit_depth(b->pathDepth, slot);
-    int pixel = b->pathPixel[slot];
+    int sample = b->pathPixel[slot], pixel = sample_pixel(params, sample);
+    uint index = sample_index(params, sample);
     vec3 beta = load_vec3(b->pathThroughput, slot);
     float etaScale = load_w(b->pathThroughput, slot); /* η² of the refractions so far (generate starts it at 1) */
     vec3 L = v3s(0.0f);
@@ -58,7 +59,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
     bool alive = path_fits(depth + 1, params->maxPathLength) && !bsdf_is_black(&bsdf);
 
     if (alive && bsdf_has_nondelta(&bsdf)) {
-        Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 0u);
+        Uniform4 u = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 0u);
         LightSample ls;
         if (sample_scene_light(b, hit.p, u, &ls)) {
             vec3 wiL = to_local(&hit.frame, ls.direction);
@@ -78,7 +79,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
     }
 
     if (alive) {
-        Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 1u);
+        Uniform4 u = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 1u);
         Scatter s;
         alive = scatter(&bsdf, &hit, wo, woL, u, false, &s);
         if (alive) {
@@ -100,7 +101,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
         }
     }
 
-    add_radiance(b->pixelRadiance, pixel, L, rejected);
+    add_radiance(b->pixelRadiance, sample, L, rejected);
     *aliveOut = alive;
 }
 

@@ -34,6 +34,22 @@ INLINE int hit_depth(__global const int* pathDepth, int slot) { return pathDepth
 /* Whether a full path of `segments` segments is within the limit. */
 INLINE bool path_fits(int segments, int maxPathLength) { return segments <= maxPathLength; }
 
+/* Camera samples. An iteration takes samplesPerIteration samples of every
+ * pixel: sample s is pixel s mod pixels in pass s div pixels, and the random
+ * numbers of pass k of iteration i are those of sample index
+ * i · samplesPerIteration + k of the pixel (core/rng.h). So an image is the
+ * same, sample for sample, whatever the samples per iteration. */
+INLINE int sample_pixel(const LaunchParams* p, int sample)
+{
+    return p->samplesPerIteration == 1 ? sample : sample % p->pixels;
+}
+INLINE uint sample_index(const LaunchParams* p, int sample)
+{
+    return p->samplesPerIteration == 1
+               ? p->iteration
+               : p->iteration * (uint)p->samplesPerIteration + (uint)(sample / p->pixels);
+}
+
 INLINE Ray load_ray(__global const float4* origins, __global const float4* directions, int slot)
 {
     Ray r;
