@@ -205,7 +205,7 @@ tests() {
 echo "== 4. tests"
 suites='Bvh.*:HashGrid.*:Sampler.*:KernelInterface.*:KernelSources.*:ProgramBuild.*:EyeLight.*:PathTracer.*'
 suites+=':Bidirectional.*:VertexMerging.*:Mis.*:BsdfMaterials.*:Bsdf.*:MultiDevice.*:DoubleSidedEmitter.*:HardCases.*'
-suites+=':Lights.*:Environment.*'
+suites+=':Lights.*:Environment.*:Rounds.*:SamplesPerIteration.*'
 suites+='-PathTracer.EveryBundledSceneRendersFinite' # textured-room's environment map is an image
 step 60 "$kit/bin/wavevcm_tests" --gtest_filter="${KIT_TESTS:-$suites}" --gtest_output="xml:$out/gtest.xml"
 }

@@ -137,7 +137,7 @@ static std::vector<std::string> originalLocations(const std::string& source)
 
 std::string attributeBuildLog(const std::string& log, const std::string& source)
 {
-    static const std::regex unnamed(R"(<(kernel|source|stdin|input)>:(\d+))");
+    static const std::regex unnamed(R"(<(kernel|source|stdin|input)>:(\d{1,9}))");
     std::vector<std::string> where;
     std::string out;
     auto last = log.cbegin();

@@ -300,7 +300,7 @@ int runRender(const RenderOptions& o)
         iterationsByRank[0] = iterations;
         int job = 0;
         for (int n : iterationsByRank) job += n;
-        progress.update(job, seconds, double(settings.width) * settings.height);
+        progress.update(job, seconds, double(settings.width) * settings.height * settings.samplesPerIteration);
     };
     // Before each iteration: this process interrupted (then the other ranks
     // are told), or another rank was.

@@ -98,7 +98,9 @@ static int run(int argc, char** argv, bool* failed)
     render->add_option("-o,--output", r.output, "output image: .exr, .hdr, .pfm (float) or .png/.jpg (8-bit sRGB)")
         ->capture_default_str();
     render->add_option("-a,--algorithm", r.algorithm, "el | pt | lt | bpt | ppm | bpm | vcm")->capture_default_str();
-    render->add_option("-n,--spp", r.spp, "iterations (one jittered camera sample per pixel each); default 16");
+    render->add_option("-n,--spp", r.spp,
+                       "samples per pixel: iterations of one jittered camera sample per pixel each, or of "
+                       "--samples-per-iteration; default 16 (rounded up to a multiple of it)");
     render->add_option("-t,--time", r.seconds, "wall-clock budget in seconds: whole iterations until it is spent");
     addSceneOptions(render, r, true);
     render->add_option("--stats", r.statsFile, "write a JSON summary of the render to this file");

@@ -81,9 +81,11 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
         throw Error("--samples-per-iteration " + std::to_string(settings.samplesPerIteration) +
                     ": pt and el take 1 or more; lt and the bidirectional algorithms take 1 (their iteration is one "
                     "light path per pixel)");
-    if (int64_t(settings.width) * settings.height * settings.samplesPerIteration > INT32_MAX)
-        throw Error("--samples-per-iteration " + std::to_string(settings.samplesPerIteration) +
-                    ": more samples in one iteration than a 32-bit index counts");
+    // The kernels index float4 arrays by sample with 32-bit offsets, 4 · sample.
+    if (int64_t(settings.width) * settings.height * settings.samplesPerIteration >= (int64_t(1) << 29))
+        throw Error(std::to_string(settings.width) + "x" + std::to_string(settings.height) + " with " +
+                    std::to_string(settings.samplesPerIteration) +
+                    " samples per iteration: 2^29 or more samples in one iteration (the kernels' 32-bit offsets)");
     // Which techniques the bidirectional algorithms combine (SmallVCM's useVC/useVM).
     useVC_ = algorithm == Algorithm::Bidirectional || algorithm == Algorithm::VertexConnectionMerging;
     useVM_ = algorithm == Algorithm::ProgressivePhotonMapping || algorithm == Algorithm::BidirectionalPhotonMapping ||

@@ -56,8 +56,8 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Runs one iteration (one sample per pixel; one light path per pixel for
-    // the bidirectional algorithms) to completion and folds it into the
+    // Runs one iteration (samplesPerIteration samples per pixel; one light
+    // path per pixel for lt and the bidirectional algorithms) to completion and folds it into the
     // image. `index` is its global index, 0, 1, 2, ...: its random numbers
     // and merge radius depend on it alone (MultiDeviceRender gives devices
     // different ones); without it, the next after this renderer's last.

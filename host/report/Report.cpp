@@ -365,6 +365,9 @@ void validate(const ReportOptions& o)
         if (!fs::is_regular_file(s)) throw Error(s + ": no such file");
     for (const std::string& r : o.references)
         if (!fs::is_regular_file(r)) throw Error(r + ": no such file");
+    if (o.render.samplesPerIteration != 1)
+        throw Error("report: --samples-per-iteration is for pt and el alone; report compares every algorithm at "
+                    "one sample per pixel per iteration");
     validateRenderOptions(o.render);
 }
 

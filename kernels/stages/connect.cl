@@ -1,8 +1,8 @@
 /* connect: trace every shadow ray in the shadow queue (any hit, up to
  * direction.w) and, if nothing is in the way, add its contribution:
- *   connect        to its camera path's pixel. Each pixel has one camera path
- *                  per iteration, so no two items of a launch write the same
- *                  pixel;
+ *   connect        to its camera path's sample (pixelRadiance has an entry per
+ *                  camera sample of the iteration), so no two items of a
+ *                  launch write the same entry;
  *   connect_splat  to the pixel a light path vertex projects to (light
  *                  tracing): many may hit one pixel, so the adds are atomic.
  *                  The sum then depends on timing only by float rounding. */

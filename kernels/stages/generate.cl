@@ -3,8 +3,8 @@
  * continuing ones: item i takes sample firstSample + ROUND_FIRST + i and
  * ray-queue entry ROUND_RAYS + i, with no atomics.
  *   plan_round      one work-item, first in every round (below);
- *   generate        camera paths, one per pixel (pixel = sample index), with a
- *                   jittered primary ray (box filter);
+ *   generate        camera paths, samplesPerIteration per pixel (sample_pixel,
+ *                   path_state.h), with a jittered primary ray (box filter);
  *   generate_light  light paths (light path index = sample index) from a light
  *                   chosen by power, by emission sampling. */
 #include "core/queues.h"
