@@ -40,7 +40,8 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
     SurfaceHit hit = scene_surface_hit(b, tri, bary, wo);
     vec3 woL = to_local(&hit.frame, wo);
     int depth = hit_depth(b->pathDepth, slot);
-    int pixel = b->pathPixel[slot];
+    int pixel = b->pathPixel[slot]; /* the camera sample: its pixel, as samplesPerIteration is 1 here */
+    uint index = sample_index(params, pixel);
     vec3 beta = load_vec3(b->pathThroughput, slot);
     PathMis mis = load_mis(b->pathMis, slot);
     mis_at_hit(&mis, b->hitT[slot], mis_cos(hit.ngF, wo), true);
@@ -74,7 +75,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 
 #ifndef VERTEX_MERGING_ONLY
     if (alive && b->scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
-        Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 0u);
+        Uniform4 u = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 0u);
         LightSample ls;
         if (sample_scene_light(b, hit.p, u, &ls)) {
             vec3 wiL = to_local(&hit.frame, ls.direction);
@@ -99,7 +100,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 #endif
 
     if (alive) {
-        Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)pixel, (uint)depth, 1u);
+        Uniform4 u = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 1u);
         Scatter s;
         alive = continue_bidirectional(&bsdf, &hit, wo, woL, u, false, cont, params, &mis, &beta, &s) &&
                 store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth, rejected);
