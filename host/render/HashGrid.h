@@ -5,6 +5,7 @@
 
 #include "../../kernels/interface/shared_types.h"
 #include "../cl/DeviceContext.h"
+#include "KernelProfile.h"
 
 #include <cstdint>
 #include <string>
@@ -14,16 +15,17 @@ namespace wv {
 
 class HashGrid {
 public:
-    // `program` holds the kernels of hash_grid.cl.
-    HashGrid(DeviceContext& device, const cl::Program& program);
+    // `program` holds the kernels of hash_grid.cl; `profile`, if not null,
+    // records their launches.
+    HashGrid(DeviceContext& device, const cl::Program& program, KernelProfile* profile = nullptr);
 
     // Room for `vertices` vertices, with one bucket per vertex on average
     // (SmallVCM), a power of two.
     void reserve(size_t vertices);
 
-    // Device bytes per vertex of capacity: its MergeVertex and up to two
-    // buckets' start and fill counters.
-    static constexpr size_t kBytesPerVertex = sizeof(MergeVertex) + 2 * 2 * sizeof(int);
+    // Device bytes per vertex of capacity: its MergeVertex, its bucket and
+    // place in it, and up to two buckets' starts.
+    static constexpr size_t kBytesPerVertex = sizeof(MergeVertex) + 2 * sizeof(int) + 2 * sizeof(int);
 
     // Enqueues the build over vertices[0, count) of a LightVertex buffer for
     // query radius `radius`.
@@ -40,8 +42,9 @@ private:
     void launch(cl::Kernel& kernel, size_t items);
 
     DeviceContext& device_;
+    KernelProfile* profile_;
     cl::Kernel count_, scanChunks_, scanTotals_, scanAdd_, scatter_;
-    cl::Buffer bucketStarts_, bucketFill_, bucketVertices_, chunkTotals_;
+    cl::Buffer bucketStarts_, vertexPlaces_, bucketVertices_, chunkTotals_;
     uint32_t buckets_ = 0;
     size_t capacity_ = 0;
 };

@@ -176,7 +176,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
         if (useVM_) {
             c.merge = kernel("merge");
             c.hasMerge = true;
-            grid_ = std::make_unique<HashGrid>(device, build_.program);
+            grid_ = std::make_unique<HashGrid>(device, build_.program, profiling_ ? &profile_ : nullptr);
         }
         if (params_.storeVertices) ensureLightVertexCapacity(size_t(pixels_) * 2);
     }
@@ -280,10 +280,9 @@ void Renderer::launch(cl::Kernel& kernel, size_t items)
 {
     try {
         setLaunchParams(kernel, params_);
-        cl::Event event;
         device_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(items, localSize_)),
-                                           cl::NDRange(localSize_), nullptr, profiling_ ? &event : nullptr);
-        if (profiling_) pending_.push_back({kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(), items, event});
+                                           cl::NDRange(localSize_), nullptr,
+                                           profiling_ ? profile_.record(kernel, items) : nullptr);
     } catch (const cl::Error& e) {
         throw Error("launching kernel " + kernel.getInfo<CL_KERNEL_FUNCTION_NAME>() + " on " + device_.info.name +
                     " failed: " + clErrorName(e.err()));
@@ -458,27 +457,15 @@ bool Renderer::iterate(int index, const std::function<bool()>& abandon)
         clearRadiance(); // the running means keep the iterations before it
         device_.queue.finish();
         rays_ += raysTracedThisIteration();
-        if (profiling_) collectProfile();
+        if (profiling_) profile_.collect();
         return false;
     }
     launch(accumulate_, size_t(pixels_));
     device_.queue.finish();
     rays_ += raysTracedThisIteration();
-    if (profiling_) collectProfile();
+    if (profiling_) profile_.collect();
     ++iteration_;
     return true;
-}
-
-void Renderer::collectProfile()
-{
-    for (PendingLaunch& launch : pending_) {
-        cl_ulong start = launch.event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
-        cl_ulong end = launch.event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
-        KernelStats& stats = kernelStats_[launch.kernel];
-        stats.seconds += double(end - start) * 1e-9;
-        stats.items += launch.items;
-    }
-    pending_.clear();
 }
 
 std::array<Image, 3> Renderer::techniqueImages()

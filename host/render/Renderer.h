@@ -9,6 +9,7 @@
 #include "Algorithm.h"
 #include "HashGrid.h"
 #include "KernelBindings.h"
+#include "KernelProfile.h"
 #include "LightTable.h"
 #include "PathState.h"
 #include "SceneBuffers.h"
@@ -96,11 +97,9 @@ public:
     // shade, connect and merge kernels, pixels for accumulate; with rounds
     // ahead, the upper bounds launched instead: the wavefront). Needs a
     // profiling queue (see DeviceContext); empty otherwise.
-    struct KernelStats {
-        double seconds = 0;
-        uint64_t items = 0;
-    };
-    const std::map<std::string, KernelStats>& kernelStats() const { return kernelStats_; }
+    // The hash grid's build kernels and buffer fills are among them.
+    using KernelStats = KernelProfile::KernelStats;
+    const std::map<std::string, KernelStats>& kernelStats() const { return profile_.stats(); }
 
     // The kernel files of the program for an algorithm.
     static std::vector<std::string> kernelFiles(Algorithm algorithm);
@@ -131,7 +130,6 @@ private:
     enum class Batches { Done, Restart, Abandoned };
     Batches renderBatches();
     void buildHashGrid();
-    void collectProfile();
 
     DeviceContext& device_;
     RenderSettings settings_;
@@ -162,13 +160,7 @@ private:
     std::vector<int> phaseStartCounters_;             // the counters below COUNTER_PHASE_STATE at a phase's start
     std::vector<std::vector<int>> roundCounters_; // the same, as read after rounds (roundsAhead_ + 1 of them)
     bool profiling_ = false;
-    struct PendingLaunch {
-        std::string kernel;
-        size_t items;
-        cl::Event event;
-    };
-    std::vector<PendingLaunch> pending_;
-    std::map<std::string, KernelStats> kernelStats_;
+    KernelProfile profile_;
 };
 
 // Default wavefront capacity: ~256K paths on a CPU, 2M on a GPU, at most what

@@ -2,9 +2,10 @@
  * that a dependent load (a light path's next vertex, a hash-grid bucket)
  * does not stall the work-item on a cache miss. CPU devices only (PoCL
  * compiles for the host's x86 target, where clang's builtin becomes a
- * prefetch instruction); elsewhere the hint is nothing. A prefetch keeps
- * LLVM's loop vectorizer off the work-item loop it is in: -DNO_PREFETCH
- * builds without them, for scripts/vectorizer_report.py's experiments. */
+ * prefetch instruction); elsewhere the hint is nothing, and a streaming store
+ * a plain one. A prefetch keeps LLVM's loop vectorizer off the work-item loop
+ * it is in: -DNO_PREFETCH builds without them, for
+ * scripts/vectorizer_report.py's experiments. */
 #ifndef WAVEVCM_PREFETCH_H
 #define WAVEVCM_PREFETCH_H
 
@@ -18,8 +19,13 @@
         __builtin_prefetch((__global const char*)(p));                                                     \
         __builtin_prefetch((__global const char*)(p) + (bytes) - 1);                                       \
     } while (0)
+/* A store that bypasses the caches (x86 MOVNT), for records scattered over
+ * an array larger than the caches: a whole cache line written this way is
+ * not read from memory first. */
+#define STREAM_STORE(value, p) __builtin_nontemporal_store((value), (p))
 #else
 #define PREFETCH(p, bytes) ((void)0)
+#define STREAM_STORE(value, p) (*(p) = (value))
 #endif
 
 #endif

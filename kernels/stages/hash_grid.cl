@@ -9,36 +9,26 @@
 #include "interface/shared_types.h"
 #include "transport/hash_grid.h"
 
-/* The bucket of vertex i, or -1 past the end. */
-INLINE int vertex_bucket(__global const LightVertex* vertices, int count, int i, float cellSize, uint cellCount)
-{
-    return i < count ? (int)grid_bucket(grid_cell(vload3(0, vertices[i].position), cellSize), cellCount) : -1;
-}
-
-/* For hints (CPU devices, core/prefetch.h): the bucket of the vertex
- * GRID_PREFETCH_DISTANCE after i, -1 past the end or where hints are
- * nothing. Buckets lie anywhere in the table, and each vertex's atomic add
- * waited for its bucket's cache line. */
 #define GRID_PREFETCH_DISTANCE 8
-INLINE int bucket_ahead(__global const LightVertex* vertices, int count, int i, float cellSize, uint cellCount)
-{
-#ifdef HAS_PREFETCH
-    return vertex_bucket(vertices, count, i + GRID_PREFETCH_DISTANCE, cellSize, cellCount);
-#else
-    return -1;
-#endif
-}
 
+/* Counts each bucket's vertices and keeps, per vertex, its bucket and its
+ * place among the bucket's vertices (the count's atomic increment returns
+ * it), so the scatter needs neither the hash nor an atomic. */
 __kernel void grid_count(__global const LightVertex* vertices, int count, float cellSize, uint cellCount,
-                         __global int* bucketCounts)
+                         __global int* bucketCounts, __global int2* vertexPlaces)
 {
     int i = get_global_id(0);
-    int ahead = bucket_ahead(vertices, count, i, cellSize, cellCount);
-    if (ahead >= 0)
-        PREFETCH(&bucketCounts[ahead], 4);
+#ifdef HAS_PREFETCH
+    /* The bucket of the vertex GRID_PREFETCH_DISTANCE ahead: buckets lie
+     * anywhere in the table, and each atomic add waits for its cache line. */
+    int ahead = i + GRID_PREFETCH_DISTANCE;
+    if (ahead < count)
+        PREFETCH(&bucketCounts[grid_bucket(grid_cell(vload3(0, vertices[ahead].position), cellSize), cellCount)], 4);
+#endif
     if (i >= count)
         return;
-    atomic_inc(&bucketCounts[vertex_bucket(vertices, count, i, cellSize, cellCount)]);
+    int b = (int)grid_bucket(grid_cell(vload3(0, vertices[i].position), cellSize), cellCount);
+    vertexPlaces[i] = (int2)(b, atomic_inc(&bucketCounts[b]));
 }
 
 /* In place: values[i] becomes the sum of the values before it in its chunk;
@@ -82,27 +72,25 @@ __kernel void scan_add(__global int* values, int count, int chunk, __global cons
         values[count] = chunkTotals[(count + chunk - 1) / chunk];
 }
 
-__kernel void grid_scatter(__global const LightVertex* vertices, int count, float cellSize, uint cellCount,
-                           __global const int* bucketStarts, __global int* bucketFill,
-                           __global MergeVertex* bucketVertices)
+/* Each vertex's record to its place: bucket start + its place in the
+ * bucket. The records land anywhere in the array; on CPU devices they are
+ * written with streaming stores, whole cache lines that need not be read
+ * first. */
+__kernel void grid_scatter(__global const LightVertex* vertices, int count, __global const int2* vertexPlaces,
+                           __global const int* bucketStarts, __global MergeVertex* bucketVertices)
 {
     int i = get_global_id(0);
-    int ahead = bucket_ahead(vertices, count, i, cellSize, cellCount);
-    if (ahead >= 0) {
-        PREFETCH(&bucketStarts[ahead], 4);
-        PREFETCH(&bucketFill[ahead], 4);
-    }
+#ifdef HAS_PREFETCH
+    if (i + GRID_PREFETCH_DISTANCE < count)
+        PREFETCH(&bucketStarts[vertexPlaces[i + GRID_PREFETCH_DISTANCE].x], 4);
+#endif
     if (i >= count)
         return;
     __global const LightVertex* v = &vertices[i];
-    float3 p = vload3(0, v->position);
-    uint b = grid_bucket(grid_cell(p, cellSize), cellCount);
-    __global MergeVertex* m = &bucketVertices[bucketStarts[b] + atomic_inc(&bucketFill[b])];
-    vstore3(p, 0, m->position);
-    m->pathLength = v->pathLength;
-    vstore3(vload3(0, v->toLight), 0, m->toLight);
-    m->dVCM = v->dVCM;
-    vstore3(vload3(0, v->throughput), 0, m->throughput);
-    m->dVM = v->dVM;
-    m->continuation = v->continuation;
+    int2 place = vertexPlaces[i];
+    __global float4* m = (__global float4*)&bucketVertices[bucketStarts[place.x] + place.y];
+    STREAM_STORE((float4)(vload3(0, v->position), as_float(v->pathLength)), m);
+    STREAM_STORE((float4)(vload3(0, v->toLight), v->dVCM), m + 1);
+    STREAM_STORE((float4)(vload3(0, v->throughput), v->dVM), m + 2);
+    STREAM_STORE((float4)(v->continuation, 0.0f, 0.0f, 0.0f), m + 3);
 }
