@@ -119,7 +119,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
 
     // One fixed local size: PoCL compiles a work-group function per local
     // size, and local size 1 is several times slower there.
-    localSize_ = std::min<size_t>(64, device.info.maxWorkGroupSize);
+    localSize_ = std::min<size_t>(RENDER_GROUP_SIZE, device.info.maxWorkGroupSize);
     profiling_ = (device.queue.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_PROFILING_ENABLE) != 0;
 
     // What holds for the whole render; the rest is set per batch

@@ -153,7 +153,7 @@ private:
     int pixels_ = 0;
     int iteration_ = 0;
     uint64_t rays_ = 0;
-    size_t localSize_ = 64;
+    size_t localSize_ = RENDER_GROUP_SIZE;
     Phase cameraPhase_, lightPhase_;
     cl::Kernel planRound_, accumulate_;
     int roundsAhead_ = 0;

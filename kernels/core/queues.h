@@ -22,26 +22,61 @@ INLINE Lanes lanes(int x, int y, int z, int w)
     return l;
 }
 
+/* __local ints a kernel declares for group_allocate4. */
+#define QUEUE_SCRATCH_INTS (8 + RENDER_GROUP_SIZE)
+
+/* CPU devices (PoCL compiles for the host's x86 target) run a work-group's
+ * items one after another in one thread; there one item numbers them all in
+ * a loop. An atomic increment per item is a locked instruction, which waits
+ * until the item's earlier stores have reached the cache: 3 % of extend's
+ * and shade's time. GPUs keep the local atomics. */
+#if defined(__x86_64__) || defined(__i386__)
+#define SERIAL_GROUP_NUMBERING 1
+#endif
+
 /* For each of up to four counters (lanes x, y, z, w of `counter`), the next
  * index of that counter for every work-item that `wants` one in that lane,
  * -1 for the others. Aggregated per work-group: one global atomic per counter
  * per group reserves room for all its items (a global atomic per item cost
  * ~95 ns on a 2-core CPU, the counter's cache line bouncing between cores,
  * more than shading). All of a kernel's pushes go through one call: it has
- * three barriers, and on PoCL each barrier splits the work-group loop and
- * spills the live values. Every work-item of the group must call it, once
- * per kernel; `scratch` is __local int[8]. */
+ * two or three barriers, and on PoCL each barrier splits the work-group loop
+ * and spills the live values. Every work-item of the group must call it, once
+ * per kernel; `scratch` is __local int[QUEUE_SCRATCH_INTS]: the group's
+ * counts (0-3), its places in the queues (4-7), and on CPUs each item's lanes
+ * (8 + local id; bit k: it wants lane k, then its four indices, a byte each). */
 INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants, __local int* scratch)
 {
+    Lanes index;
+#ifdef SERIAL_GROUP_NUMBERING
+    int item = get_local_id(0);
+    scratch[8 + item] = (wants.x ? 1 : 0) | (wants.y ? 2 : 0) | (wants.z ? 4 : 0) | (wants.w ? 8 : 0);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (item == 0) {
+        int nx = 0, ny = 0, nz = 0, nw = 0;
+        for (int i = 0; i < (int)get_local_size(0); ++i) {
+            int bits = scratch[8 + i];
+            scratch[8 + i] = nx | ny << 8 | nz << 16 | nw << 24;
+            nx += bits & 1;
+            ny += (bits >> 1) & 1;
+            nz += (bits >> 2) & 1;
+            nw += bits >> 3;
+        }
+        scratch[0] = nx;
+        scratch[1] = ny;
+        scratch[2] = nz;
+        scratch[3] = nw;
+    }
+#else
     if (get_local_id(0) == 0)
         scratch[0] = scratch[1] = scratch[2] = scratch[3] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    Lanes index;
     index.x = wants.x ? atomic_inc(&scratch[0]) : 0;
     index.y = wants.y ? atomic_inc(&scratch[1]) : 0;
     index.z = wants.z ? atomic_inc(&scratch[2]) : 0;
     index.w = wants.w ? atomic_inc(&scratch[3]) : 0;
     barrier(CLK_LOCAL_MEM_FENCE);
+#endif
     if (get_local_id(0) == 0) {
         scratch[4] = scratch[0] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.x)], scratch[0]) : 0;
         scratch[5] = scratch[1] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.y)], scratch[1]) : 0;
@@ -49,6 +84,13 @@ INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants,
         scratch[7] = scratch[3] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter.w)], scratch[3]) : 0;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
+#ifdef SERIAL_GROUP_NUMBERING
+    int packed = scratch[8 + item];
+    index.x = packed & 0xff;
+    index.y = (packed >> 8) & 0xff;
+    index.z = (packed >> 16) & 0xff;
+    index.w = (packed >> 24) & 0xff;
+#endif
     return lanes(wants.x ? scratch[4] + index.x : -1, wants.y ? scratch[5] + index.y : -1,
                  wants.z ? scratch[6] + index.z : -1, wants.w ? scratch[7] + index.w : -1);
 }

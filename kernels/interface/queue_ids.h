@@ -18,6 +18,10 @@
 #define QUEUE_FREE(parity) (4 + 2 * (parity)) /* slots whose path ended: to regenerate */
 #define QUEUE_COUNT 7
 
+/* The render kernels' work-group size, at most (the device may allow less):
+ * the queue pushes' __local scratch holds a slot per item (core/queues.h). */
+#define RENDER_GROUP_SIZE 64
+
 /* The round's plan, made on the device by plan_round (generate.cl) so that
  * the host can enqueue rounds without reading counters in between. */
 #define COUNTER_ISSUED 7       /* samples of the phase handed out so far */

@@ -11,7 +11,7 @@
 
 __kernel void escaped(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[8];
+    __local int scratch[QUEUE_SCRATCH_INTS];
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_ESCAPED, get_global_id(0));
     int rejected = 0;
 #if defined(HAS_BACKGROUND) && !defined(EYE_LIGHT)

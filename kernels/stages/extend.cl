@@ -6,7 +6,7 @@
 
 __kernel void extend(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[8];
+    __local int scratch[QUEUE_SCRATCH_INTS];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_ray(queueItems, queueCounters, params.capacity, params.rayQueue, get_global_id(0), rayOrigins,
                  rayDirections);

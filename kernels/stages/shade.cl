@@ -107,7 +107,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
 
 __kernel void shade(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[8];
+    __local int scratch[QUEUE_SCRATCH_INTS];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));

@@ -8,7 +8,7 @@
 
 __kernel void shade_eyelight(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[8];
+    __local int scratch[QUEUE_SCRATCH_INTS];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot >= 0) {

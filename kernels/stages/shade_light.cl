@@ -116,7 +116,7 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
 
 __kernel void shade_light(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[8];
+    __local int scratch[QUEUE_SCRATCH_INTS];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
