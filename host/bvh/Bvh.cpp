@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <fstream>
 #include <future>
 #include <list>
 #include <mutex>
 #include <new>
+#include <string>
 #include <thread>
 #ifdef __linux__
 #include <sys/mman.h>
@@ -167,8 +169,11 @@ private:
 
         // Binned SAH (Wald 2007) on all three axes in one pass over the
         // triangles: cost of a split = traversal + Σ_side area(side)/area(node) · count(side).
-        Box4 bin[3][kBins];
-        uint32_t binCount[3][kBins] = {};
+        // Two sets of bins, for even and odd triangles, summed after the
+        // pass: neighbouring triangles often fall into the same bins, and
+        // with one set each extend waited for the one before it.
+        Box4 bin[3][kBins], bin2[3][kBins];
+        uint32_t binCount[3][kBins] = {}, binCount2[3][kBins] = {};
         V4 scale = {0, 0, 0, 0};
         for (int a = 0; a < 3; ++a) {
             float e = centroids.extent()[a];
@@ -179,15 +184,32 @@ private:
             I4 b = __builtin_convertvector(((lo + hi) * 0.5f - origin) * scale, I4);
             return b < kBins - 1 ? b : I4{kBins - 1, kBins - 1, kBins - 1, kBins - 1};
         };
-        for (uint32_t k = begin; k < end; ++k) {
+        uint32_t k = begin;
+        for (; k + 1 < end; k += 2) {
             const BuildTriangle& t = tris_[k];
-            V4 lo = t.lo, hi = t.hi();
+            const BuildTriangle& u = tris_[k + 1];
+            V4 lo = t.lo, hi = t.hi(), lo2 = u.lo, hi2 = u.hi();
+            I4 b = binOf(lo, hi), b2 = binOf(lo2, hi2);
+            for (int a = 0; a < 3; ++a) {
+                bin[a][b[a]].extend(lo, hi);
+                binCount[a][b[a]]++;
+                bin2[a][b2[a]].extend(lo2, hi2);
+                binCount2[a][b2[a]]++;
+            }
+        }
+        if (k < end) {
+            V4 lo = tris_[k].lo, hi = tris_[k].hi();
             I4 b = binOf(lo, hi);
             for (int a = 0; a < 3; ++a) {
                 bin[a][b[a]].extend(lo, hi);
                 binCount[a][b[a]]++;
             }
         }
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < kBins; ++b) {
+                bin[a][b].extend(bin2[a][b]);
+                binCount[a][b] += binCount2[a][b];
+            }
         // The sweep visits occupied bins only: a split beside an empty bin
         // costs the same as the one before it, never strictly less.
         float bestCost = INFINITY;
@@ -436,6 +458,24 @@ double sahCost(const BinaryNode* n)
 
 } // namespace
 
+// Whether Linux gives an madvise'd region huge pages without stopping the
+// faulting thread to compact memory first: not under its default defrag
+// setting, "madvise", nor "always" and "defer+madvise", which compact
+// synchronously for such regions; with "defer" or "never" a fault takes a huge
+// page if one is free and a 4 KiB page otherwise. On a virtual machine whose
+// memory needed compacting, huge pages made the first build of the
+// 1M-triangle displaced sphere in a process 0.34-0.46 s against 0.27-0.28 s.
+static bool hugePagesWithoutStall()
+{
+    static const bool answer = [] {
+        std::ifstream f("/sys/kernel/mm/transparent_hugepage/defrag");
+        std::string line;
+        std::getline(f, line);
+        return line.find("[defer]") != std::string::npos || line.find("[never]") != std::string::npos;
+    }();
+    return answer;
+}
+
 void* allocateLargeArray(size_t bytes)
 {
     constexpr size_t kHugePage = size_t(2) << 20;
@@ -444,7 +484,7 @@ void* allocateLargeArray(size_t bytes)
         size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
         p = std::aligned_alloc(kHugePage, rounded);
 #ifdef MADV_HUGEPAGE
-        if (p) madvise(p, rounded, MADV_HUGEPAGE); // advice only: ignored where unsupported
+        if (p && hugePagesWithoutStall()) madvise(p, rounded, MADV_HUGEPAGE); // advice only
 #endif
     } else {
         p = std::malloc(std::max<size_t>(bytes, 1));
