@@ -18,9 +18,9 @@ namespace wv {
 // The allocator of the build's large arrays. resize() leaves new elements
 // default-initialized (for these plain structs: unwritten), so an array is not
 // zero-filled by one thread before the build's threads write it; and arrays of
-// 2 MiB or more ask Linux for transparent huge pages, which cut the build's
-// page faults (one per 4 KiB page otherwise: about a third of a 1M-triangle
-// build's time on a virtual machine).
+// 2 MiB or more are aligned for transparent huge pages, asked for where Linux
+// grants them without compacting memory first (Bvh.cpp): they cut the page
+// faults, one per 4 KiB page otherwise.
 void* allocateLargeArray(size_t bytes); // freed by std::free; throws std::bad_alloc
 
 template <typename T>
