@@ -9,8 +9,9 @@
 #   1. speed: every algorithm on the Cornell box and the caustics scene at
 #      512 x 512 for KIT_SECONDS (default 5) with --profile and --stats, and
 #      pt and vcm at 1024 x 1024 (a wavefront of 1M paths), pt with 1, 4
-#      and 8 samples per iteration, and pt and vcm with NVIDIA's compiler
-#      held to 64 registers (WAVEVCM_CL_OPTIONS=-cl-nv-maxrregcount=64);
+#      and 8 samples per iteration, pt and vcm as 2 and 4 pipelines sharing
+#      the GPU, and pt and vcm with NVIDIA's compiler held to 64 registers
+#      (WAVEVCM_CL_OPTIONS=-cl-nv-maxrregcount=64);
 #   1a. (not by default) --rounds-ahead 0 to 8 for pt and vcm;
 #   1b. registers: NVIDIA's own ptxas report per kernel (-cl-nv-verbose);
 #   2. ray casting: wavevcm_bench's extend/connect benchmarks on the Cornell
@@ -136,6 +137,15 @@ done
 for k in 1 4 8; do
   step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a pt -d "$device" -t "$seconds" \
     --samples-per-iteration "$k" --stats "$work/stats/cornell-box-spi$k-pt.json" -o "$work/speed.pfm"
+done
+# Several pipelines on the one GPU (independent renderers, each with its own
+# queue and host thread; the whole device shared): does one pipeline's host
+# wait between rounds leave the GPU to the other's kernels?
+for alg in pt vcm; do
+  for n in 2 4; do
+    step $((seconds + 30)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" -d "$device" -t "$seconds" \
+      --pipelines "$n" --stats "$work/stats/cornell-box-pipelines$n-$alg.json" -o "$work/speed.pfm"
+  done
 done
 # Registers cap occupancy (ptxas gives extend 128 on sm_90 through clang):
 # the same with NVIDIA's compiler told to stay within 64.
