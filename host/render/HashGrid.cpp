@@ -38,8 +38,10 @@ void HashGrid::reserve(size_t vertices)
 void HashGrid::launch(cl::Kernel& kernel, size_t items)
 {
     size_t global = (std::max<size_t>(items, 1) + kLocalSize - 1) / kLocalSize * kLocalSize;
+    cl::Event event;
     device_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kLocalSize), nullptr,
-                                       profile_ ? profile_->record(kernel, items) : nullptr);
+                                       profile_ ? &event : nullptr);
+    if (profile_) profile_->record(kernel, items, event);
 }
 
 template <typename... Args> static void setArgs(cl::Kernel& kernel, const Args&... args)

@@ -2,10 +2,9 @@
 
 namespace wv {
 
-cl::Event* KernelProfile::record(const cl::Kernel& kernel, size_t items)
+void KernelProfile::record(const cl::Kernel& kernel, size_t items, const cl::Event& event)
 {
-    pending_.push_back({kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(), items, cl::Event()});
-    return &pending_.back().event;
+    pending_.push_back({kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(), items, event});
 }
 
 void KernelProfile::collect()

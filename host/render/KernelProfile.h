@@ -1,6 +1,6 @@
 // Device time per kernel, from the profiling events of a profiling queue
-// (DeviceContext): launches are recorded as they are enqueued and their
-// times read once the queue has finished them, so profiling adds no wait.
+// (DeviceContext): launches are recorded once enqueued and their times read
+// once the queue has finished them, so profiling adds no wait.
 #pragma once
 
 #include "../cl/OpenCL.h"
@@ -19,8 +19,8 @@ public:
         uint64_t items = 0;
     };
 
-    // The event to pass to the launch of `kernel` over `items` work items.
-    cl::Event* record(const cl::Kernel& kernel, size_t items);
+    // A launch of `kernel` over `items` work items, enqueued with `event`.
+    void record(const cl::Kernel& kernel, size_t items, const cl::Event& event);
     // Adds the recorded launches' times; the queue must have finished them.
     void collect();
     const std::map<std::string, KernelStats>& stats() const { return stats_; }

@@ -280,9 +280,10 @@ void Renderer::launch(cl::Kernel& kernel, size_t items)
 {
     try {
         setLaunchParams(kernel, params_);
+        cl::Event event;
         device_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(items, localSize_)),
-                                           cl::NDRange(localSize_), nullptr,
-                                           profiling_ ? profile_.record(kernel, items) : nullptr);
+                                           cl::NDRange(localSize_), nullptr, profiling_ ? &event : nullptr);
+        if (profiling_) profile_.record(kernel, items, event);
     } catch (const cl::Error& e) {
         throw Error("launching kernel " + kernel.getInfo<CL_KERNEL_FUNCTION_NAME>() + " on " + device_.info.name +
                     " failed: " + clErrorName(e.err()));

@@ -97,7 +97,9 @@ public:
     // shade, connect and merge kernels, pixels for accumulate; with rounds
     // ahead, the upper bounds launched instead: the wavefront). Needs a
     // profiling queue (see DeviceContext); empty otherwise.
-    // The hash grid's build kernels and buffer fills are among them.
+    // The hash grid's build kernels are among them (items: the light vertices
+    // for grid_count and grid_scatter, the buckets + 1 for scan_add, the
+    // chunks for scan_chunks, 1 for scan_totals); buffer fills are not.
     using KernelStats = KernelProfile::KernelStats;
     const std::map<std::string, KernelStats>& kernelStats() const { return profile_.stats(); }
 

@@ -21,7 +21,9 @@
     } while (0)
 /* A store that bypasses the caches (x86 MOVNT), for records scattered over
  * an array larger than the caches: a whole cache line written this way is
- * not read from memory first. */
+ * not read from memory first. Such stores are weakly ordered; the kernels
+ * that read them run in a later command, after PoCL's completion of this one,
+ * whose locked instructions order them. -DNO_PREFETCH makes them plain. */
 #define STREAM_STORE(value, p) __builtin_nontemporal_store((value), (p))
 #else
 #define PREFETCH(p, bytes) ((void)0)

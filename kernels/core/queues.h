@@ -24,6 +24,9 @@ INLINE Lanes lanes(int x, int y, int z, int w)
 
 /* __local ints a kernel declares for group_allocate4. */
 #define QUEUE_SCRATCH_INTS (8 + RENDER_GROUP_SIZE)
+#if RENDER_GROUP_SIZE > 256
+#error "group_allocate4 packs an item's indices into bytes: at most 256 items per group"
+#endif
 
 /* CPU devices (PoCL compiles for the host's x86 target) run a work-group's
  * items one after another in one thread; there one item numbers them all in
