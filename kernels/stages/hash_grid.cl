@@ -11,6 +11,12 @@
 
 #define GRID_PREFETCH_DISTANCE 8
 
+/* The bucket of vertex i. */
+INLINE int vertex_bucket(__global const LightVertex* vertices, int i, float cellSize, uint cellCount)
+{
+    return (int)grid_bucket(grid_cell(vload3(0, vertices[i].position), cellSize), cellCount);
+}
+
 /* Counts each bucket's vertices and keeps, per vertex, its bucket and its
  * place among the bucket's vertices (the count's atomic increment returns
  * it), so the scatter needs neither the hash nor an atomic. */
@@ -23,11 +29,11 @@ __kernel void grid_count(__global const LightVertex* vertices, int count, float 
      * anywhere in the table, and each atomic add waits for its cache line. */
     int ahead = i + GRID_PREFETCH_DISTANCE;
     if (ahead < count)
-        PREFETCH(&bucketCounts[grid_bucket(grid_cell(vload3(0, vertices[ahead].position), cellSize), cellCount)], 4);
+        PREFETCH(&bucketCounts[vertex_bucket(vertices, ahead, cellSize, cellCount)], 4);
 #endif
     if (i >= count)
         return;
-    int b = (int)grid_bucket(grid_cell(vload3(0, vertices[i].position), cellSize), cellCount);
+    int b = vertex_bucket(vertices, i, cellSize, cellCount);
     vertexPlaces[i] = (int2)(b, atomic_inc(&bucketCounts[b]));
 }
 
