@@ -8,8 +8,9 @@
 #      `wavevcm devices`;
 #   1. speed: every algorithm on the Cornell box and the caustics scene at
 #      512 x 512 for KIT_SECONDS (default 5) with --profile and --stats, and
-#      pt and vcm at 1024 x 1024 (a wavefront of 1M paths), pt with 1, 4
-#      and 8 samples per iteration, pt and vcm as 2 and 4 pipelines sharing
+#      pt and vcm at 1024 x 1024 (a wavefront of 1M paths), bpt and vcm
+#      with vertex connections traced inline (the GPU default queues them),
+#      pt with 1, 4 and 8 samples per iteration, pt and vcm as 2 and 4 pipelines sharing
 #      the GPU, and pt and vcm with NVIDIA's compiler held to 64 registers
 #      (WAVEVCM_CL_OPTIONS=-cl-nv-maxrregcount=64);
 #   1a. (not by default) --rounds-ahead 0 to 8 for pt and vcm;
@@ -131,6 +132,14 @@ done
 for alg in pt vcm; do
   step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" -d "$device" -t "$seconds" \
     --width 1024 --height 1024 --stats "$work/stats/cornell-box-1024-$alg.json" -o "$work/speed.pfm"
+done
+# Vertex connections traced by each camera path's work-item, against the
+# connection queue the runs above used (--profile on both, as above).
+for alg in bpt vcm; do
+  for scene in $scenes; do
+    step $((seconds + 20)) "$kit/bin/wavevcm" render "scenes/$scene.gltf" -a "$alg" -d "$device" -t "$seconds" \
+      --vertex-connections inline --profile --stats "$work/stats/$scene-inline-$alg.json" -o "$work/speed.pfm"
+  done
 done
 # More samples per iteration (pt): K times the paths per launch at 512 x 512,
 # against one, both without --profile's events (samples/s in --stats).

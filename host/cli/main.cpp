@@ -40,6 +40,10 @@ static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severa
                         "camera samples per pixel in one iteration, pt and el (default 1): more paths per "
                         "launch for a GPU; --spp counts samples, so it must be a multiple")
         ->check(CLI::Range(1, 64));
+    command->add_option("--vertex-connections", o.vertexConnections,
+                        "bpt and vcm: inline (each camera path traces its connections' shadow rays) or queued (a "
+                        "kernel traces them, one per work-item); default: queued on GPUs, inline elsewhere")
+        ->check(CLI::IsMember({"inline", "queued"}));
     command->add_option("--radius-factor", o.radiusFactor,
                         "merge radius of the first iteration, times the scene's bounding-sphere radius")
         ->capture_default_str();

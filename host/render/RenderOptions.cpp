@@ -118,6 +118,9 @@ RenderSettings renderSettings(const RenderOptions& o, const Scene& scene)
     settings.wavefront = o.wavefront;
     settings.roundsAhead = o.roundsAhead;
     settings.samplesPerIteration = o.samplesPerIteration;
+    settings.vertexConnections = o.vertexConnections == "inline"   ? VertexConnections::Inline
+                                 : o.vertexConnections == "queued" ? VertexConnections::Queued
+                                                                   : VertexConnections::Default;
     settings.radiusFactor = float(o.radiusFactor);
     settings.radiusAlpha = float(o.radiusAlpha);
     settings.techniques = o.aov == "techniques";

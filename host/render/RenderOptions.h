@@ -25,6 +25,7 @@ struct RenderOptions {
     int wavefront = 0;
     int roundsAhead = 0; // --rounds-ahead N
     int samplesPerIteration = 1; // --samples-per-iteration K
+    std::string vertexConnections; // --vertex-connections inline|queued; empty = the device's default
     double radiusFactor = 0.003, radiusAlpha = 0.75;
     std::string aov; // "techniques" or empty
     std::string reference, errorLog; // --reference REF --error-log LOG.csv

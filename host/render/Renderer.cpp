@@ -26,7 +26,16 @@ std::vector<std::string> Renderer::kernelFiles(Algorithm algorithm)
     return stages;
 }
 
-std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& features, int lightCount)
+bool Renderer::usesConnectionQueue(const RenderSettings& settings, const DeviceInfo& device)
+{
+    if (settings.algorithm != Algorithm::Bidirectional && settings.algorithm != Algorithm::VertexConnectionMerging)
+        return false;
+    if (settings.vertexConnections == VertexConnections::Default) return (device.type & CL_DEVICE_TYPE_GPU) != 0;
+    return settings.vertexConnections == VertexConnections::Queued;
+}
+
+std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& features, int lightCount,
+                                     bool connectionQueue)
 {
     bool bidirectional = algorithm != Algorithm::EyeLight && algorithm != Algorithm::PathTracing;
     bool mergingOnly =
@@ -37,6 +46,7 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
     if (algorithm == Algorithm::LightTracing) options += " -DLIGHT_TRACING";
     if (mergingOnly) options += " -DVERTEX_MERGING_ONLY";
     if (algorithm == Algorithm::ProgressivePhotonMapping) options += " -DPPM";
+    if (connectionQueue) options += " -DCONNECTION_QUEUE";
     return options;
 }
 
@@ -59,6 +69,9 @@ int defaultWavefront(const DeviceInfo& device)
     size_t fits = device.globalMemory / 4 / PathState::bytesPerPath();
     return int(std::max<size_t>(1024, std::min(wanted, fits)));
 }
+
+// A connection queue entry: its ray's origin and direction, its contribution.
+constexpr size_t kBytesPerConnection = 3 * sizeof(cl_float4);
 
 static size_t roundUp(size_t x, size_t multiple) { return (x + multiple - 1) / multiple * multiple; }
 
@@ -91,6 +104,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     useVM_ = algorithm == Algorithm::ProgressivePhotonMapping || algorithm == Algorithm::BidirectionalPhotonMapping ||
              algorithm == Algorithm::VertexConnectionMerging;
     bool lightTracing = algorithm == Algorithm::LightTracing;
+    connectionQueue_ = usesConnectionQueue(settings, device.info);
     sceneRadius_ = lights_.info.radius;
     pixels_ = settings.width * settings.height;
 
@@ -115,7 +129,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
 
     std::string source = expandKernelSources(findKernelDir(), kernelFiles(algorithm));
     build_ = buildProgram(device.context, device.info, source,
-                          programOptions(algorithm, scene.features(), lights_.info.lightCount));
+                          programOptions(algorithm, scene.features(), lights_.info.lightCount, connectionQueue_));
 
     // One fixed local size: PoCL compiles a work-group function per local
     // size, and local size 1 is several times slower there.
@@ -158,7 +172,8 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
         // Light sub-paths, and the light vertices camera paths connect to.
         batch_ = pixels_;
         b.lightPathHead = deviceBuffer(device, size_t(pixels_) * sizeof(int), "the light path heads");
-        size_t bytesPerVertex = sizeof(LightVertex) + (useVM_ ? HashGrid::kBytesPerVertex : 0);
+        size_t bytesPerVertex = sizeof(LightVertex) + (useVM_ ? HashGrid::kBytesPerVertex : 0) +
+                                (connectionQueue_ ? kBytesPerConnection : 0);
         vertexBudget_ = std::min<size_t>(device.info.maxAllocation / sizeof(LightVertex),
                                          device.info.globalMemory / 2 / bytesPerVertex);
         if (settings.maxLightVertices > 0) vertexBudget_ = std::min(vertexBudget_, settings.maxLightVertices);
@@ -172,6 +187,10 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
         if (useVC_) {
             c.connectVertices = kernel("connect_vertices");
             c.hasConnectVertices = true;
+        }
+        if (connectionQueue_) {
+            c.traceConnections = kernel("trace_connections");
+            c.hasTraceConnections = true;
         }
         if (useVM_) {
             c.merge = kernel("merge");
@@ -212,11 +231,14 @@ size_t Renderer::deviceBytes() const
     return sceneBuffers_.bytes + paths_.bytes +
            size_t(pixels_) * (settings_.techniques ? 128 : 80) + size_t(pixels_) * 16 * (settings_.samplesPerIteration - 1) +
            (bidirectional_ ? vertexCapacity_ * sizeof(LightVertex) + size_t(pixels_) * sizeof(int) : 0) +
-           (grid_ ? vertexCapacity_ * HashGrid::kBytesPerVertex : 0);
+           (grid_ ? vertexCapacity_ * HashGrid::kBytesPerVertex : 0) + connectionCapacity_ * kBytesPerConnection;
 }
 
 // Makes room for at least `vertices` light vertices (80 bytes each), within
-// the device's limits; the kernels that write and read them get the new buffer.
+// the device's limits, and as many entries of the connection queue (a round
+// queues at most one connection per stored vertex: a camera path connects
+// only to its own light path, once per round); the kernels that write and
+// read them get the new buffers.
 void Renderer::ensureLightVertexCapacity(size_t vertices)
 {
     vertices = std::min(vertices, vertexBudget_);
@@ -229,6 +251,13 @@ void Renderer::ensureLightVertexCapacity(size_t vertices)
         buffers_.bucketStarts = grid_->bucketStarts();
         buffers_.bucketVertices = grid_->bucketVertices();
         params_.cellCount = grid_->buckets();
+    }
+    if (connectionQueue_) {
+        connectionCapacity_ = vertexCapacity_;
+        for (cl::Buffer* b : {&buffers_.connectionOrigins, &buffers_.connectionDirections,
+                              &buffers_.connectionContribution})
+            *b = deviceBuffer(device_, connectionCapacity_ * sizeof(cl_float4), "the connection queue");
+        params_.connectionCapacity = int(connectionCapacity_);
     }
     bindAll();
 }
@@ -249,6 +278,18 @@ void Renderer::setBatchConstants(int lightPaths)
     params_.vmWeightFactor = useVM_ ? eta : 0.0f;
     params_.vcWeightFactor = useVM_ && useVC_ ? 1.0f / eta : 0.0f;
     params_.vmNormalization = useVM_ ? 1.0f / eta : 0.0f;
+}
+
+// The vertex connections a round queued, as counted after it. A round
+// queues at most one per stored light vertex (connect_vertices.cl), so more
+// than the queue holds is a bug, not a case to handle.
+size_t Renderer::queuedConnections(const std::vector<int>& counters) const
+{
+    size_t n = size_t(counters[COUNTER_INDEX(COUNTER_CONNECTIONS)]);
+    if (n > connectionCapacity_)
+        throw Error("internal error: " + std::to_string(n) + " vertex connections queued in one round, room for " +
+                    std::to_string(connectionCapacity_));
+    return n;
 }
 
 uint32_t Renderer::readCounter(int counter)
@@ -290,15 +331,19 @@ void Renderer::launch(cl::Kernel& kernel, size_t items)
     }
 }
 
-// One round: plan_round decides on the device how many new paths start (as
-// many as there are free slots and samples left), then every live path
-// advances one segment. Launches cover `fresh` new paths and `live` paths in
-// all: the actual numbers, or upper bounds of them (kernels skip the items
-// past their queue's size on the device). With live = 0, the plan alone: it
-// counts the last round's shadow rays. Consumes RAYS(parity) and
+// One round: the vertex connections the last round queued are traced (as
+// many as `connections`, or an upper bound of them), plan_round decides on
+// the device how many new paths start (as many as there are free slots and
+// samples left), then every live path advances one segment. Launches cover
+// `fresh` new paths and `live` paths in all: the actual numbers, or upper
+// bounds of them (kernels skip the items past their queue's size on the
+// device). With live = 0, the last round's connections and the plan alone:
+// it counts the last round's shadow rays. Consumes RAYS(parity) and
 // FREE(parity), fills the other pair.
-void Renderer::round(Phase& phase, int parity, size_t fresh, size_t live)
+void Renderer::round(Phase& phase, int parity, size_t fresh, size_t live, size_t connections)
 {
+    // The last round's queued vertex connections, before plan_round empties the queue.
+    if (phase.hasTraceConnections && connections > 0) launch(phase.traceConnections, connections);
     params_.rayQueue = QUEUE_RAYS(parity);
     params_.freeQueue = QUEUE_FREE(parity);
     params_.nextRayQueue = QUEUE_RAYS(1 - parity);
@@ -351,12 +396,13 @@ bool Renderer::runPhase(Phase& phase, int firstSample, int count)
     size_t ahead = size_t(roundsAhead_);
     if (ahead == 0) {
         std::vector<int>& now = roundCounters_[0];
-        size_t fresh = std::min(capacity, size_t(count)), live = fresh;
+        size_t fresh = std::min(capacity, size_t(count)), live = fresh, connections = 0;
         for (int parity = 0;; parity = 1 - parity) {
-            round(phase, parity, fresh, live);
+            round(phase, parity, fresh, live, connections);
             if (live == 0) return true;
             device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_TRUE, 0, now.size() * sizeof(int), now.data());
             live = nextRound(now, parity, &fresh);
+            connections = queuedConnections(now);
             if (abandon_ && abandon_()) return false;
         }
     }
@@ -366,7 +412,7 @@ bool Renderer::runPhase(Phase& phase, int firstSample, int count)
     bool finished = false;
     for (size_t r = 0; !finished; ++r) {
         int parity = int(r % 2);
-        round(phase, parity, freshBound, capacity);
+        round(phase, parity, freshBound, capacity, r > 0 ? connectionCapacity_ : 0);
         std::vector<int>& counters = roundCounters_[r % (ahead + 1)];
         device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_FALSE, 0, counters.size() * sizeof(int),
                                         counters.data(), nullptr, &reads[r % (ahead + 1)]);
@@ -374,6 +420,7 @@ bool Renderer::runPhase(Phase& phase, int firstSample, int count)
             size_t q = r - ahead, fresh = 0;
             reads[q % (ahead + 1)].wait();
             finished = nextRound(roundCounters_[q % (ahead + 1)], int(q % 2), &fresh) == 0;
+            queuedConnections(roundCounters_[q % (ahead + 1)]);
         }
         if (!finished && abandon_ && abandon_()) return false;
     }

@@ -22,6 +22,13 @@
 
 namespace wv {
 
+// How vertex connection (bpt, vcm) finds out whether a camera vertex and a
+// light vertex see each other (kernels/stages/connect_vertices.cl): each
+// camera path's work-item traces its connections' shadow rays itself
+// (Inline), or queues them for a kernel that traces one per work-item
+// (Queued). Default: Queued on GPUs, Inline on other devices.
+enum class VertexConnections { Default, Inline, Queued };
+
 struct RenderSettings {
     Algorithm algorithm = Algorithm::EyeLight;
     int width = 512, height = 512;
@@ -46,6 +53,7 @@ struct RenderSettings {
     // Sample k of iteration i is sample i·K + k of the pixel, so the image
     // after N iterations is that of N·K iterations of one sample.
     int samplesPerIteration = 1;
+    VertexConnections vertexConnections = VertexConnections::Default;
 };
 
 class Renderer {
@@ -89,6 +97,8 @@ public:
     // Bidirectional iterations begun again because the light-path batch had
     // to shrink midway (renderBatches).
     int restartedIterations() const { return restartedIterations_; }
+    // Whether vertex connections go through the connection queue.
+    bool connectionQueue() const { return connectionQueue_; }
     // The merge radius of the last iteration (0 without merging).
     float mergeRadius() const { return radius_; }
 
@@ -105,16 +115,20 @@ public:
 
     // The kernel files of the program for an algorithm.
     static std::vector<std::string> kernelFiles(Algorithm algorithm);
-    // Their build options: the algorithm's defines, the scene's features and
-    // the light selection's steps for a table of lightCount lights.
-    static std::string programOptions(Algorithm algorithm, const SceneFeatures& features, int lightCount);
+    // Their build options: the algorithm's defines, the scene's features, the
+    // light selection's steps for a table of lightCount lights, and whether
+    // vertex connections go through the connection queue.
+    static std::string programOptions(Algorithm algorithm, const SceneFeatures& features, int lightCount,
+                                      bool connectionQueue = false);
+    // Whether the connection queue is used on `device` (bpt and vcm only).
+    static bool usesConnectionQueue(const RenderSettings& settings, const DeviceInfo& device);
 
 private:
     // The kernels of one kind of sub-path, in the order a round runs them.
     struct Phase {
         bool cameraPaths = false;
-        cl::Kernel generate, extend, connectVertices, merge, shade, escaped, connect;
-        bool hasConnectVertices = false, hasMerge = false, hasConnect = false;
+        cl::Kernel generate, extend, connectVertices, merge, shade, escaped, connect, traceConnections;
+        bool hasConnectVertices = false, hasMerge = false, hasConnect = false, hasTraceConnections = false;
     };
 
     cl::Kernel kernel(const char* name);
@@ -123,8 +137,9 @@ private:
     std::function<bool()> abandon_; // iterate()'s, asked once per round (runPhase)
     // False if abandon_ said to stop.
     bool runPhase(Phase& phase, int firstSample, int count);
-    void round(Phase& phase, int parity, size_t fresh, size_t live);
+    void round(Phase& phase, int parity, size_t fresh, size_t live, size_t connections);
     uint32_t readCounter(int counter); // blocking
+    size_t queuedConnections(const std::vector<int>& counters) const;
     uint64_t raysTracedThisIteration();
     int lightVertexCount();
     void ensureLightVertexCapacity(size_t vertices);
@@ -147,6 +162,8 @@ private:
     std::vector<cl::Kernel> kernels_; // every render kernel made, for rebinding buffers
     size_t vertexCapacity_ = 0, vertexBudget_ = 0;
     bool useVC_ = false, useVM_ = false;
+    bool connectionQueue_ = false;
+    size_t connectionCapacity_ = 0; // entries of the connection queue's buffers
     float sceneRadius_ = 0, radius_ = 0;
     std::unique_ptr<HashGrid> grid_; // merging only
     int batch_ = 0;

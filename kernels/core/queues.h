@@ -114,6 +114,39 @@ INLINE void queue_push4(__global int* items, __global int* counters, int capacit
         items[queues.w * capacity + at.w] = slot;
 }
 
+/* The first of `n` consecutive entries of `counter` for this work-item (the
+ * group's items' blocks one after another), n ≥ 0. Aggregated per group as
+ * group_allocate4 (its rules apply), without its limit of 255 per group. */
+INLINE int group_allocate_n(__global int* counters, int counter, int n, __local int* scratch)
+{
+    int item = get_local_id(0);
+#ifdef SERIAL_GROUP_NUMBERING
+    scratch[8 + item] = n;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (item == 0) {
+        int total = 0;
+        for (int i = 0; i < (int)get_local_size(0); ++i) {
+            int count = scratch[8 + i];
+            scratch[8 + i] = total;
+            total += count;
+        }
+        scratch[4] = total > 0 ? atomic_add(&counters[COUNTER_INDEX(counter)], total) : 0;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    return scratch[4] + scratch[8 + item];
+#else
+    if (item == 0)
+        scratch[0] = 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    int offset = n > 0 ? atomic_add(&scratch[0], n) : 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (item == 0)
+        scratch[4] = scratch[0] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter)], scratch[0]) : 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    return scratch[4] + offset;
+#endif
+}
+
 /* The slot of the i-th entry of `queue`, or -1 past its end. */
 INLINE int queue_item(__global const int* items, __global const int* counters, int capacity, int queue, int i)
 {

@@ -79,7 +79,10 @@ namespace wv {
     X(__global, LightVertex, lightVertices, 0)                                                             \
     X(__global, int, lightPathHead, 0)       /* last stored vertex per light path of the batch */          \
     X(__global, int, bucketStarts, 0)        /* hash grid (hash_grid.h): first entry per bucket, +1 */     \
-    X(__global, MergeVertex, bucketVertices, 0) /* hash grid: the vertices as merging reads them, bucket order */
+    X(__global, MergeVertex, bucketVertices, 0) /* hash grid: the vertices as merging reads them, bucket order */ \
+    X(__global, float4, connectionOrigins, 0)      /* the connection queue (connect_vertices.cl): rays */ \
+    X(__global, float4, connectionDirections, 0)   /* w = tMax */                                         \
+    X(__global, float4, connectionContribution, 0) /* w = the pixel's bits, -1: no ray */
 
 #define RENDER_BUFFERS(X) SCENE_BUFFERS(X) PATH_STATE_BUFFERS(X) IMAGE_BUFFERS(X) LIGHT_PATH_BUFFERS(X)
 
@@ -104,6 +107,7 @@ typedef struct LaunchParams {
     int accumulated;      /* samples per pixel already in this renderer's running means */
     int firstLightPath;   /* light path index of the batch's first path */
     int vertexCapacity;   /* lightVertices' length */
+    int connectionCapacity; /* the connection queue's length (0 without one) */
     float vmWeightFactor; /* Georgiev's report, eq. 20: η_VCM = π r² N_light, 0 without merging */
     float vcWeightFactor; /* 1/η_VCM with connection and merging, else 0 */
     float mergeRadius;

@@ -28,12 +28,14 @@
 #define COUNTER_ROUND_FIRST 8  /* this round's first new sample, counted from the phase's first */
 #define COUNTER_ROUND_NEW 9    /* paths generate starts this round */
 #define COUNTER_ROUND_RAYS 10  /* continuing rays in the ray queue: generate appends after them */
-#define COUNTER_PHASE_STATE 11 /* counters below this one start every phase at zero (FREE(0): all slots) */
+#define COUNTER_CONNECTIONS 11  /* vertex connections queued this round (connect_vertices.cl; may exceed
+                                  * the buffer: the rest were traced at once) */
+#define COUNTER_PHASE_STATE 12 /* counters below this one start every phase at zero (FREE(0): all slots) */
 
-#define COUNTER_RAYS_TRACED 11    /* extended and shadow rays this iteration (a ulong: two ints) */
-#define COUNTER_LIGHT_VERTICES 12 /* light vertices stored (and wanted: may exceed the buffer) */
-#define COUNTER_NONFINITE 13      /* samples dropped because they were NaN or Inf (all iterations) */
-#define COUNTER_COUNT 14
+#define COUNTER_RAYS_TRACED 12    /* extended and shadow rays this iteration (a ulong: two ints) */
+#define COUNTER_LIGHT_VERTICES 13 /* light vertices stored (and wanted: may exceed the buffer) */
+#define COUNTER_NONFINITE 14      /* samples dropped because they were NaN or Inf (all iterations) */
+#define COUNTER_COUNT 15
 
 #define COUNTER_STRIDE 16 /* ints: one 64-byte cache line per counter */
 #define COUNTER_INDEX(c) ((c) * COUNTER_STRIDE)

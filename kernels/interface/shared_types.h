@@ -156,7 +156,8 @@ typedef struct LightVertex {
     float b1;            /* barycentrics of the hit */
     float b2;
     float continuation;  /* Russian roulette survival probability of its BSDF (merging's reverse pdf) */
-    float pad[2];
+    int number;          /* of its light path's stored vertices, counting from 1 at the light's end */
+    float pad;
 } LightVertex;
 
 /* A light vertex as vertex merging reads it (merge.cl), copied by the hash

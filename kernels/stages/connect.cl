@@ -5,7 +5,11 @@
  *                  launch write the same entry;
  *   connect_splat  to the pixel a light path vertex projects to (light
  *                  tracing): many may hit one pixel, so the adds are atomic.
- *                  The sum then depends on timing only by float rounding. */
+ *                  The sum then depends on timing only by float rounding;
+ *   trace_connections the vertex connections that connect_vertices queued in
+ *                  the round before (its CONNECTION_QUEUE), to the camera
+ *                  path's pixel: a pixel's connections are traced by as many
+ *                  work-items, so these adds are atomic too. */
 #include "core/queues.h"
 #include "geometry/bvh_traversal.h"
 #include "interface/inline.h"
@@ -75,4 +79,23 @@ __kernel void connect_splat(RENDER_KERNEL_PARAMS)
     atomic_add_float(pixel, c.x);
     atomic_add_float(pixel + 1, c.y);
     atomic_add_float(pixel + 2, c.z);
+}
+
+__kernel void trace_connections(RENDER_KERNEL_PARAMS)
+{
+    RenderBuffers b = RENDER_BUFFERS_VALUE;
+    int i = get_global_id(0);
+    if (i >= min(queueCounters[COUNTER_INDEX(COUNTER_CONNECTIONS)], params.connectionCapacity))
+        return;
+    int pixel = as_int(load_w(connectionContribution, i));
+    if (pixel < 0)
+        return;
+    Hit hit;
+    if (trace_ray(nodes, trianglePackets, load_ray(connectionOrigins, connectionDirections, i), true, &hit, &b))
+        return;
+    vec3 c = load_vec3(connectionContribution, i);
+    volatile __global float* p = (volatile __global float*)(connectionRadiance + pixel);
+    atomic_add_float(p, c.x);
+    atomic_add_float(p + 1, c.y);
+    atomic_add_float(p + 2, c.z);
 }

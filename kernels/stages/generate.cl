@@ -39,6 +39,7 @@ __kernel void plan_round(RENDER_KERNEL_PARAMS)
     c[COUNTER_INDEX(QUEUE_HITS)] = 0;
     c[COUNTER_INDEX(QUEUE_ESCAPED)] = 0;
     c[COUNTER_INDEX(QUEUE_SHADOW)] = 0;
+    c[COUNTER_INDEX(COUNTER_CONNECTIONS)] = 0; /* traced before this plan (Renderer::round) */
     c[COUNTER_INDEX(params.nextRayQueue)] = 0;
     c[COUNTER_INDEX(params.nextFreeQueue)] = 0;
 }

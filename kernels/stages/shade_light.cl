@@ -139,6 +139,9 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
         queueItems[queues.z * params.capacity + at.z] = slot;
     if (at.w >= 0 && at.w < params.vertexCapacity) {
         r.vertex.prev = pathLastVertex[slot];
+        int flags = pathFlags[slot] + PATH_STORED_ONE;
+        pathFlags[slot] = flags;
+        r.vertex.number = flags / PATH_STORED_ONE;
         lightVertices[at.w] = r.vertex;
         pathLastVertex[slot] = at.w;
         lightPathHead[pathPixel[slot] - params.firstLightPath] = at.w;

@@ -27,6 +27,8 @@
 /* Bits of pathFlags. */
 #define PATH_FINITE_LIGHT 1 /* a light path from a light with a position */
 #define PATH_SPECULAR 2     /* a camera path with only delta scattering so far */
+/* Above the bits: a light path's vertices stored so far (LightVertex.number). */
+#define PATH_STORED_ONE 256
 
 /* Depth of the vertex the current ray of `slot` finds (or of the segment it escapes along). */
 INLINE int hit_depth(__global const int* pathDepth, int slot) { return pathDepth[slot] + 1; }
