@@ -34,14 +34,21 @@ typedef struct CameraHitResult {
 INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchParams* params, int slot, int* rejected)
 {
     CameraHitResult r = {0, 0};
+    int depth = hit_depth(b->pathDepth, slot);
+    int pixel = b->pathPixel[slot]; /* the camera sample: its pixel, as samplesPerIteration is 1 here */
+    uint index = sample_index(params, pixel);
+    /* The random numbers first, as in shade.cl. */
+#if !defined(LIGHT_TRACING) && !defined(VERTEX_MERGING_ONLY)
+    Uniform4 uLight = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 0u);
+#endif
+#ifndef LIGHT_TRACING
+    Uniform4 uScatter = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 1u);
+#endif
     int tri = b->hitTriangle[slot];
     vec3 wo = v3_neg(load_vec3(b->rayDirections, slot));
     vec2 bary = load_vec2(b->hitBary, slot);
     SurfaceHit hit = scene_surface_hit(b, tri, bary, wo);
     vec3 woL = to_local(&hit.frame, wo);
-    int depth = hit_depth(b->pathDepth, slot);
-    int pixel = b->pathPixel[slot]; /* the camera sample: its pixel, as samplesPerIteration is 1 here */
-    uint index = sample_index(params, pixel);
     vec3 beta = load_vec3(b->pathThroughput, slot);
     PathMis mis = load_mis(b->pathMis, slot);
     mis_at_hit(&mis, b->hitT[slot], mis_cos(hit.ngF, wo), true);
@@ -75,9 +82,8 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 
 #ifndef VERTEX_MERGING_ONLY
     if (alive && b->scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
-        Uniform4 u = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 0u);
         LightSample ls;
-        if (sample_scene_light(b, hit.p, u, &ls)) {
+        if (sample_scene_light(b, hit.p, uLight, &ls)) {
             vec3 wiL = to_local(&hit.frame, ls.direction);
             if (sides_agree(&hit, ls.direction, wiL) && light_sample_resolved(hit.p, hit.pError, hit.ngF, &ls)) {
                 float pdfFwd, pdfRev;
@@ -100,9 +106,8 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 #endif
 
     if (alive) {
-        Uniform4 u = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 1u);
         Scatter s;
-        alive = continue_bidirectional(&bsdf, &hit, wo, woL, u, false, cont, params, &mis, &beta, &s) &&
+        alive = continue_bidirectional(&bsdf, &hit, wo, woL, uScatter, false, cont, params, &mis, &beta, &s) &&
                 store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth, rejected);
         if (alive) {
             store_mis(b->pathMis, slot, mis);

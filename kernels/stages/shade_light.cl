@@ -39,13 +39,15 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     vec3 beta = load_vec3(b->pathThroughput, slot);
     if (!(max_component(beta) > 0.0f))
         return r; /* a failed emission sample */
+    int depth = hit_depth(b->pathDepth, slot);
+    int lightPath = b->pathPixel[slot];
+    /* The random numbers first, as in shade.cl. */
+    Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)lightPath, (uint)depth, 3u);
     int tri = b->hitTriangle[slot];
     vec2 bary = load_vec2(b->hitBary, slot);
     vec3 wLight = v3_neg(load_vec3(b->rayDirections, slot)); /* back along the light path */
     SurfaceHit hit = scene_surface_hit(b, tri, bary, wLight);
     vec3 wLightL = to_local(&hit.frame, wLight);
-    int depth = hit_depth(b->pathDepth, slot);
-    int lightPath = b->pathPixel[slot];
     PathMis mis = load_mis(b->pathMis, slot);
     mis_at_hit(&mis, b->hitT[slot], mis_cos(hit.ngF, wLight), depth > 1 || (b->pathFlags[slot] & PATH_FINITE_LIGHT));
     Bsdf bsdf = surface_bsdf(b, tri, bary, wLightL, hit.frontSide);
@@ -104,7 +106,6 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
 
     if (!path_fits(depth + 2, params->maxPathLength))
         return r; /* the next vertex could not even connect to the camera */
-    Uniform4 u = rng_uniform4(params->seed, params->iteration, (uint)lightPath, (uint)depth, 3u);
     Scatter s;
     if (!continue_bidirectional(&bsdf, &hit, wLight, wLightL, u, true, cont, params, &mis, &beta, &s) ||
         !store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth, rejected))
