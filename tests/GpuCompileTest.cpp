@@ -107,16 +107,26 @@ TEST(GpuCompile, EveryProgramAssemblesForSm90)
     std::ostringstream table;
     table << "| program | kernel | registers | stack bytes | spill stores | spill loads |\n"
           << "| --- | --- | --- | --- | --- | --- |\n";
-    for (Algorithm a : {Algorithm::EyeLight, Algorithm::PathTracing, Algorithm::LightTracing, Algorithm::Bidirectional,
-                        Algorithm::ProgressivePhotonMapping, Algorithm::BidirectionalPhotonMapping,
-                        Algorithm::VertexConnectionMerging}) {
+    // bpt and vcm with vertex connections queued, as on GPUs; vcm also inline
+    // (--vertex-connections inline), the program as "vcm-inline".
+    struct Program {
+        Algorithm algorithm;
+        bool queue;
+    };
+    for (Program program : {Program{Algorithm::EyeLight, false}, Program{Algorithm::PathTracing, false},
+                            Program{Algorithm::LightTracing, false}, Program{Algorithm::Bidirectional, true},
+                            Program{Algorithm::ProgressivePhotonMapping, false},
+                            Program{Algorithm::BidirectionalPhotonMapping, false},
+                            Program{Algorithm::VertexConnectionMerging, true},
+                            Program{Algorithm::VertexConnectionMerging, false}}) {
+        Algorithm a = program.algorithm;
+        bool queue = program.queue;
         std::string name = algorithmName(a);
+        if (a == Algorithm::VertexConnectionMerging && !queue) name += "-inline";
         fs::path cl = dir / (name + ".cl"), ptx = dir / (name + ".ptx"), cubin = dir / (name + ".cubin");
         std::ofstream(cl) << expandKernelSources(findKernelDir(), Renderer::kernelFiles(a));
         // The device compilers define __OPENCL_VERSION__; clang alone does not for nvptx.
-        // The longest light selection (31 steps), as for a table of 2^30 lights;
-        // vertex connections queued, as on GPUs.
-        bool queue = a == Algorithm::Bidirectional || a == Algorithm::VertexConnectionMerging;
+        // The longest light selection (31 steps), as for a table of 2^30 lights.
         std::string options = Renderer::programOptions(a, all, 1 << 30, queue) + " -D__OPENCL_VERSION__=120";
         std::string output;
         int status = run(clang + " -x cl -target nvptx64--nvidiacl -O3 " + options +

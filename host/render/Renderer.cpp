@@ -367,8 +367,9 @@ void Renderer::round(Phase& phase, int parity, size_t fresh, size_t live, size_t
 // - N > 0: it enqueues round r and a non-blocking read of its counters, then
 //   waits for round r − N's, so N rounds stay queued while the host waits.
 //   Launches cover upper bounds. The N rounds enqueued after the last live
-//   one are cheap: the first one's plan counts the last live round's shadow
-//   rays, and nothing else happens in them. abandon_ is asked as each round
+//   one are cheap: the first one traces the last live round's queued
+//   connections and its plan counts that round's shadow rays; the rest only
+//   launch trace_connections over an empty queue and plan_round. abandon_ is asked as each round
 //   is enqueued, before it has run.
 // Measured, N = 0 is faster on both devices there are figures for: on PoCL
 // (N = 2: 0.8x) every launched work-item costs, most rounds have few live
@@ -410,9 +411,12 @@ bool Renderer::runPhase(Phase& phase, int firstSample, int count)
     std::vector<cl::Event> reads(ahead + 1);
     size_t freshBound = std::min(capacity, size_t(count));
     bool finished = false;
+    // A live path queues at most maxPathLength - 2 connections per round.
+    size_t connectionBound =
+        std::min(connectionCapacity_, capacity * size_t(std::max(0, settings_.maxPathLength - 2)));
     for (size_t r = 0; !finished; ++r) {
         int parity = int(r % 2);
-        round(phase, parity, freshBound, capacity, r > 0 ? connectionCapacity_ : 0);
+        round(phase, parity, freshBound, capacity, r > 0 ? connectionBound : 0);
         std::vector<int>& counters = roundCounters_[r % (ahead + 1)];
         device_.queue.enqueueReadBuffer(buffers_.queueCounters, CL_FALSE, 0, counters.size() * sizeof(int),
                                         counters.data(), nullptr, &reads[r % (ahead + 1)]);

@@ -82,7 +82,7 @@ namespace wv {
     X(__global, MergeVertex, bucketVertices, 0) /* hash grid: the vertices as merging reads them, bucket order */ \
     X(__global, float4, connectionOrigins, 0)      /* the connection queue (connect_vertices.cl): rays */ \
     X(__global, float4, connectionDirections, 0)   /* w = tMax */                                         \
-    X(__global, float4, connectionContribution, 0) /* w = the pixel's bits, -1: no ray */
+    X(__global, float4, connectionContribution, 0) /* w: the pixel, an int (connection_pixel) */
 
 #define RENDER_BUFFERS(X) SCENE_BUFFERS(X) PATH_STATE_BUFFERS(X) IMAGE_BUFFERS(X) LIGHT_PATH_BUFFERS(X)
 

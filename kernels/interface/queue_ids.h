@@ -28,8 +28,8 @@
 #define COUNTER_ROUND_FIRST 8  /* this round's first new sample, counted from the phase's first */
 #define COUNTER_ROUND_NEW 9    /* paths generate starts this round */
 #define COUNTER_ROUND_RAYS 10  /* continuing rays in the ray queue: generate appends after them */
-#define COUNTER_CONNECTIONS 11  /* vertex connections queued this round (connect_vertices.cl; may exceed
-                                  * the buffer: the rest were traced at once) */
+#define COUNTER_CONNECTIONS 11 /* vertex connections queued this round (connect_vertices.cl); more
+                                * than the queue holds would be a bug, which the host reports */
 #define COUNTER_PHASE_STATE 12 /* counters below this one start every phase at zero (FREE(0): all slots) */
 
 #define COUNTER_RAYS_TRACED 12    /* extended and shadow rays this iteration (a ulong: two ints) */

@@ -87,7 +87,7 @@ __kernel void trace_connections(RENDER_KERNEL_PARAMS)
     int i = get_global_id(0);
     if (i >= min(queueCounters[COUNTER_INDEX(COUNTER_CONNECTIONS)], params.connectionCapacity))
         return;
-    int pixel = as_int(load_w(connectionContribution, i));
+    int pixel = *connection_pixel(connectionContribution, i);
     if (pixel < 0)
         return;
     Hit hit;

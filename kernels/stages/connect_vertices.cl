@@ -105,7 +105,8 @@ INLINE void queue_connection(const RenderBuffers* b, int i, int pixel, vec3 c, R
 {
     if (pixel >= 0)
         store_ray(b->connectionOrigins, b->connectionDirections, i, shadow);
-    store_vec3w(b->connectionContribution, i, c, as_float(pixel));
+    store_vec3w(b->connectionContribution, i, c, 0.0f);
+    *connection_pixel(b->connectionContribution, i) = pixel;
 }
 
 /* Connects the camera hit in `slot` (of `depth`) to the light path ending at
@@ -169,7 +170,7 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
     if (n > 0 && first + n <= params.connectionCapacity) {
         int used = connect_camera_hit(&b, &params, slot, depth, last, true, first, &rejected);
         for (int i = first + used; i < first + n; ++i) /* reserved, not used */
-            store_vec3w(connectionContribution, i, v3s(0.0f), as_float(-1));
+            *connection_pixel(connectionContribution, i) = -1;
     }
 #else
     if (last >= 0)

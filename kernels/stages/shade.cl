@@ -36,7 +36,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
     /* The random numbers first: their hashes are long chains of dependent
      * multiplies, which the core then runs while the loads of the hit's
      * triangle and material wait on the caches (drawn where they are used,
-     * shade took 6-10 % longer on PoCL). */
+     * shade took 4-10 % longer on PoCL). */
     Uniform4 uLight = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 0u);
     Uniform4 uScatter = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 1u);
     int tri = b->hitTriangle[slot];
