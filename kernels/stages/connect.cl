@@ -62,6 +62,15 @@ INLINE void atomic_add_float(volatile __global float* p, float v)
     } while (atomic_cmpxchg((volatile __global uint*)p, expected.u, desired.u) != expected.u);
 }
 
+/* image[pixel].xyz += c, atomically per component. */
+INLINE void atomic_add_vec3(__global float4* image, int pixel, vec3 c)
+{
+    volatile __global float* p = (volatile __global float*)(image + pixel);
+    atomic_add_float(p, c.x);
+    atomic_add_float(p + 1, c.y);
+    atomic_add_float(p + 2, c.z);
+}
+
 __kernel void connect_splat(RENDER_KERNEL_PARAMS)
 {
     RenderBuffers b = RENDER_BUFFERS_VALUE;
@@ -74,11 +83,7 @@ __kernel void connect_splat(RENDER_KERNEL_PARAMS)
     Hit hit;
     if (trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit, &b))
         return;
-    vec3 c = load_vec3(shadowContribution, slot);
-    volatile __global float* pixel = (volatile __global float*)(splatRadiance + shadowPixel[slot]);
-    atomic_add_float(pixel, c.x);
-    atomic_add_float(pixel + 1, c.y);
-    atomic_add_float(pixel + 2, c.z);
+    atomic_add_vec3(splatRadiance, shadowPixel[slot], load_vec3(shadowContribution, slot));
 }
 
 __kernel void trace_connections(RENDER_KERNEL_PARAMS)
@@ -93,9 +98,5 @@ __kernel void trace_connections(RENDER_KERNEL_PARAMS)
     Hit hit;
     if (trace_ray(nodes, trianglePackets, load_ray(connectionOrigins, connectionDirections, i), true, &hit, &b))
         return;
-    vec3 c = load_vec3(connectionContribution, i);
-    volatile __global float* p = (volatile __global float*)(connectionRadiance + pixel);
-    atomic_add_float(p, c.x);
-    atomic_add_float(p + 1, c.y);
-    atomic_add_float(p + 2, c.z);
+    atomic_add_vec3(connectionRadiance, pixel, load_vec3(connectionContribution, i));
 }
