@@ -10,7 +10,7 @@
 #      512 x 512 for KIT_SECONDS (default 5) with --profile and --stats, and
 #      pt and vcm at 1024 x 1024 (a wavefront of 1M paths), bpt and vcm
 #      with vertex connections traced inline (the GPU default queues them),
-#      pt with 1, 4 and 8 samples per iteration, pt and vcm as 2 and 4 pipelines sharing
+#      pt with 1, 4 and 8 samples per iteration, vcm with 1 and 4, pt and vcm as 2 and 4 pipelines sharing
 #      the GPU, and pt and vcm with NVIDIA's compiler held to 64 registers
 #      (WAVEVCM_CL_OPTIONS=-cl-nv-maxrregcount=64);
 #   1a. (not by default) --rounds-ahead 0 to 8 for pt and vcm;
@@ -141,11 +141,13 @@ for alg in bpt vcm; do
       --vertex-connections inline --profile --stats "$work/stats/$scene-inline-$alg.json" -o "$work/speed.pfm"
   done
 done
-# More samples per iteration (pt): K times the paths per launch at 512 x 512,
-# against one, both without --profile's events (samples/s in --stats).
-for k in 1 4 8; do
-  step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a pt -d "$device" -t "$seconds" \
-    --samples-per-iteration "$k" --stats "$work/stats/cornell-box-spi$k-pt.json" -o "$work/speed.pfm"
+# More samples per iteration: K times the paths per launch at 512 x 512
+# (vcm: K light paths per pixel too), against one, both without --profile's
+# events (samples/s in --stats).
+for run in pt:1 pt:4 pt:8 vcm:1 vcm:4; do
+  alg=${run%:*} k=${run#*:}
+  step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" -d "$device" -t "$seconds" \
+    --samples-per-iteration "$k" --stats "$work/stats/cornell-box-spi$k-$alg.json" -o "$work/speed.pfm"
 done
 # Several pipelines on the one GPU (independent renderers, each with its own
 # queue and host thread; the whole device shared): does one pipeline's host

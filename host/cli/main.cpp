@@ -37,7 +37,7 @@ static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severa
                         "launches by them (the default)")
         ->check(CLI::Range(0, 16));
     command->add_option("--samples-per-iteration", o.samplesPerIteration,
-                        "camera samples per pixel in one iteration, pt and el (default 1): more paths per "
+                        "camera samples (and light paths) per pixel in one iteration (default 1): more paths per "
                         "launch for a GPU; --spp counts samples, so it must be a multiple")
         ->check(CLI::Range(1, 64));
     command->add_option("--vertex-connections", o.vertexConnections,

@@ -90,10 +90,8 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
 {
     Algorithm algorithm = settings.algorithm;
     bidirectional_ = algorithm != Algorithm::EyeLight && algorithm != Algorithm::PathTracing;
-    if (settings.samplesPerIteration < 1 || (bidirectional_ && settings.samplesPerIteration > 1))
-        throw Error("--samples-per-iteration " + std::to_string(settings.samplesPerIteration) +
-                    ": pt and el take 1 or more; lt and the bidirectional algorithms take 1 (their iteration is one "
-                    "light path per pixel)");
+    if (settings.samplesPerIteration < 1)
+        throw Error("--samples-per-iteration " + std::to_string(settings.samplesPerIteration) + ": at least 1");
     // The kernels index float4 arrays by sample with 32-bit offsets, 4 · sample.
     if (int64_t(settings.width) * settings.height * settings.samplesPerIteration >= (int64_t(1) << 29))
         throw Error(std::to_string(settings.width) + "x" + std::to_string(settings.height) + " with " +
@@ -107,6 +105,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     connectionQueue_ = usesConnectionQueue(settings, device.info);
     sceneRadius_ = lights_.info.radius;
     pixels_ = settings.width * settings.height;
+    samples_ = pixels_ * settings.samplesPerIteration;
 
     KernelBuffers& b = buffers_;
     sceneBuffers_.bind(b);
@@ -114,13 +113,16 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     b.camera = uploadBuffer(device, &camera, sizeof camera, "the camera");
     size_t imageBytes = size_t(pixels_) * 16, samplesBytes = imageBytes * size_t(settings.samplesPerIteration);
     b.pixelRadiance = deviceBuffer(device, samplesBytes, "the iteration's radiance");
-    b.connectionRadiance = deviceBuffer(device, imageBytes, "the iteration's radiance");
-    b.mergingRadiance = deviceBuffer(device, imageBytes, "the iteration's radiance");
+    // Per sample for the bidirectional algorithms (accumulate.cl); pt and el leave them empty.
+    size_t bidirectionalBytes = bidirectional_ ? samplesBytes : imageBytes;
+    b.connectionRadiance = deviceBuffer(device, bidirectionalBytes, "the iteration's radiance");
+    b.mergingRadiance = deviceBuffer(device, bidirectionalBytes, "the iteration's radiance");
     b.splatRadiance = deviceBuffer(device, imageBytes, "the light-tracing splats");
     b.framebuffer = deviceBuffer(device, imageBytes, "the framebuffer");
     device.queue.enqueueFillBuffer(b.pixelRadiance, 0.0f, 0, samplesBytes);
-    for (cl::Buffer* i : {&b.connectionRadiance, &b.mergingRadiance, &b.splatRadiance, &b.framebuffer})
-        device.queue.enqueueFillBuffer(*i, 0.0f, 0, imageBytes);
+    for (cl::Buffer* i : {&b.connectionRadiance, &b.mergingRadiance})
+        device.queue.enqueueFillBuffer(*i, 0.0f, 0, bidirectionalBytes);
+    for (cl::Buffer* i : {&b.splatRadiance, &b.framebuffer}) device.queue.enqueueFillBuffer(*i, 0.0f, 0, imageBytes);
     if (settings.techniques) {
         b.familyMeans = deviceBuffer(device, 3 * imageBytes, "the technique images");
         device.queue.enqueueFillBuffer(b.familyMeans, 0.0f, 0, 3 * imageBytes);
@@ -141,7 +143,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     params_.capacity = paths_.capacity;
     params_.seed = settings.seed;
     params_.maxPathLength = settings.maxPathLength;
-    params_.lightTracePaths = float(pixels_); // light paths per iteration
+    params_.lightTracePaths = float(pixels_); // light paths per pass of the iteration (path_state.h)
     params_.pixels = pixels_;
     params_.samplesPerIteration = settings.samplesPerIteration;
     params_.techniques = settings.techniques ? 1 : 0;
@@ -170,8 +172,8 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     accumulate_ = kernel("accumulate");
     if (bidirectional_) {
         // Light sub-paths, and the light vertices camera paths connect to.
-        batch_ = pixels_;
-        b.lightPathHead = deviceBuffer(device, size_t(pixels_) * sizeof(int), "the light path heads");
+        batch_ = samples_;
+        b.lightPathHead = deviceBuffer(device, size_t(samples_) * sizeof(int), "the light path heads");
         size_t bytesPerVertex = sizeof(LightVertex) + (useVM_ ? HashGrid::kBytesPerVertex : 0) +
                                 (connectionQueue_ ? kBytesPerConnection : 0);
         vertexBudget_ = std::min<size_t>(device.info.maxAllocation / sizeof(LightVertex),
@@ -197,7 +199,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
             c.hasMerge = true;
             grid_ = std::make_unique<HashGrid>(device, build_.program, profiling_ ? &profile_ : nullptr);
         }
-        if (params_.storeVertices) ensureLightVertexCapacity(size_t(pixels_) * 2);
+        if (params_.storeVertices) ensureLightVertexCapacity(size_t(samples_) * 2);
     }
     bindAll();
 }
@@ -229,8 +231,9 @@ void Renderer::bindAll()
 size_t Renderer::deviceBytes() const
 {
     return sceneBuffers_.bytes + paths_.bytes +
-           size_t(pixels_) * (settings_.techniques ? 128 : 80) + size_t(pixels_) * 16 * (settings_.samplesPerIteration - 1) +
-           (bidirectional_ ? vertexCapacity_ * sizeof(LightVertex) + size_t(pixels_) * sizeof(int) : 0) +
+           size_t(pixels_) * (settings_.techniques ? 128 : 80) +
+           size_t(pixels_) * 16 * (settings_.samplesPerIteration - 1) * (bidirectional_ ? 3 : 1) +
+           (bidirectional_ ? vertexCapacity_ * sizeof(LightVertex) + size_t(samples_) * sizeof(int) : 0) +
            (grid_ ? vertexCapacity_ * HashGrid::kBytesPerVertex : 0) + connectionCapacity_ * kBytesPerConnection;
 }
 
@@ -444,13 +447,13 @@ bool Renderer::runPhase(Phase& phase, int firstSample, int count)
 Renderer::Batches Renderer::renderBatches()
 {
     bool splats = settings_.algorithm == Algorithm::LightTracing || useVC_;
-    int splatted = splats ? 0 : pixels_;
-    for (int first = 0; first < pixels_;) {
+    int splatted = splats ? 0 : samples_;
+    for (int first = 0; first < samples_;) {
         int count = 0, lightFirst = 0, lightCount = 0;
         auto placeBatch = [&] {
-            count = std::min(batch_, pixels_ - first);
-            lightFirst = std::max(0, std::min(first, pixels_ - batch_));
-            lightCount = std::min(batch_, pixels_ - lightFirst);
+            count = std::min(batch_, samples_ - first);
+            lightFirst = std::max(0, std::min(first, samples_ - batch_));
+            lightCount = std::min(batch_, samples_ - lightFirst);
         };
         placeBatch();
         for (;;) {
@@ -490,14 +493,15 @@ bool Renderer::iterate(int index, const std::function<bool()>& abandon)
                                     sizeof(uint64_t));
     // This iteration's contributions so far, before accumulate folds them in.
     auto clearRadiance = [&] {
-        size_t bytes = size_t(pixels_) * 16;
-        device_.queue.enqueueFillBuffer(buffers_.pixelRadiance, 0.0f, 0, bytes * size_t(settings_.samplesPerIteration));
-        for (cl::Buffer* b : {&buffers_.connectionRadiance, &buffers_.mergingRadiance, &buffers_.splatRadiance})
-            device_.queue.enqueueFillBuffer(*b, 0.0f, 0, bytes);
+        size_t bytes = size_t(pixels_) * 16, samplesBytes = size_t(samples_) * 16;
+        device_.queue.enqueueFillBuffer(buffers_.pixelRadiance, 0.0f, 0, samplesBytes);
+        for (cl::Buffer* b : {&buffers_.connectionRadiance, &buffers_.mergingRadiance})
+            device_.queue.enqueueFillBuffer(*b, 0.0f, 0, bidirectional_ ? samplesBytes : bytes);
+        device_.queue.enqueueFillBuffer(buffers_.splatRadiance, 0.0f, 0, bytes);
     };
     Batches done = Batches::Done;
     if (!bidirectional_) {
-        done = runPhase(cameraPhase_, 0, pixels_ * settings_.samplesPerIteration) ? Batches::Done : Batches::Abandoned;
+        done = runPhase(cameraPhase_, 0, samples_) ? Batches::Done : Batches::Abandoned;
     } else {
         while ((done = renderBatches()) == Batches::Restart) {
             ++restartedIterations_;

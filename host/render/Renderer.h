@@ -48,10 +48,16 @@ struct RenderSettings {
     // for (Renderer::runPhase); 0 waits after every round, the faster way on
     // PoCL and on the H200 alike.
     int roundsAhead = 0;
-    // Camera samples per pixel in one iteration (pt and el only): more paths
-    // per launch for a device that one sample of the image leaves idle.
-    // Sample k of iteration i is sample i·K + k of the pixel, so the image
-    // after N iterations is that of N·K iterations of one sample.
+    // Camera samples per pixel in one iteration, K: more paths per launch
+    // for a device that one sample of the image leaves idle. Sample k of
+    // iteration i is sample i·K + k of the pixel, so for pt and el the image
+    // after N iterations is that of N·K iterations of one sample. The
+    // bidirectional algorithms and lt trace K light paths per pixel too, each
+    // pass's camera paths connecting to its own light paths; lt and bpt then
+    // give the image of N·K iterations as well (up to the order of float
+    // adds), while merging (ppm, bpm, vcm) merges each camera path with all
+    // K passes' light vertices at iteration i's radius: another estimator
+    // of the same image.
     int samplesPerIteration = 1;
     VertexConnections vertexConnections = VertexConnections::Default;
 };
@@ -65,8 +71,8 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Runs one iteration (samplesPerIteration samples per pixel; one light
-    // path per pixel for lt and the bidirectional algorithms) to completion and folds it into the
+    // Runs one iteration (samplesPerIteration samples per pixel, and as many
+    // light paths per pixel for lt and the bidirectional algorithms) to completion and folds it into the
     // image. `index` is its global index, 0, 1, 2, ...: its random numbers
     // and merge radius depend on it alone (MultiDeviceRender gives devices
     // different ones); without it, the next after this renderer's last.
@@ -91,8 +97,8 @@ public:
     int wavefront() const { return paths_.capacity; }
     int roundsAhead() const { return roundsAhead_; }
     size_t deviceBytes() const;
-    // Light paths per batch (bidirectional): all pixels unless the light
-    // vertices of that many paths do not fit on the device.
+    // Light paths per batch (bidirectional): all of the iteration's unless
+    // the light vertices of that many paths do not fit on the device.
     int lightPathBatch() const { return batch_; }
     // Bidirectional iterations begun again because the light-path batch had
     // to shrink midway (renderBatches).
@@ -170,6 +176,7 @@ private:
     int index_ = 0; // global index of the iteration in flight
     int restartedIterations_ = 0;
     int pixels_ = 0;
+    int samples_ = 0; // of an iteration: pixels × samplesPerIteration (camera samples, and light paths)
     int iteration_ = 0;
     uint64_t rays_ = 0;
     size_t localSize_ = RENDER_GROUP_SIZE;

@@ -366,8 +366,8 @@ void validate(const ReportOptions& o)
     for (const std::string& r : o.references)
         if (!fs::is_regular_file(r)) throw Error(r + ": no such file");
     if (o.render.samplesPerIteration != 1)
-        throw Error("report: --samples-per-iteration is for pt and el alone; report compares every algorithm at "
-                    "one sample per pixel per iteration");
+        throw Error("report: --samples-per-iteration is for render; report compares every algorithm at one sample "
+                    "per pixel per iteration");
     validateRenderOptions(o.render);
 }
 

@@ -1,9 +1,12 @@
 /* accumulate: fold this iteration's samples of each pixel into the running
  * mean one at a time, mean_i = mean_{i-1} + (x - mean_{i-1}) / i, which
  * keeps the framebuffer in the range of the samples at any iteration count,
- * and clear the iteration's buffers. With samplesPerIteration K > 1 (pt,
- * el) pixelRadiance holds K samples per pixel (path_state.h: sample_pixel),
- * folded in pass order: the same arithmetic as K iterations of one. A
+ * and clear the iteration's buffers. With samplesPerIteration K > 1
+ * pixelRadiance, connectionRadiance and mergingRadiance hold K samples per
+ * pixel (path_state.h: sample_pixel), folded in pass order: the same
+ * arithmetic as K iterations of one. Light tracing's splats, one image for
+ * the whole iteration (each pass's light paths weighted as one pass's), go
+ * with pass 0, so that the mean over the K passes holds their sum once. A
  * sample is the sum of what the technique
  * families added: unidirectional (emission hits, next-event estimation,
  * background), vertex connection (connections, light-tracing splats) and
@@ -36,11 +39,13 @@ __kernel void accumulate(RENDER_KERNEL_PARAMS)
         return;
     for (int k = 0; k < params.samplesPerIteration; ++k) {
         vec3 unidirectional = take(pixelRadiance, k * params.pixels + pixel);
-        vec3 connection = v3s(0.0f), merging = v3s(0.0f); /* the bidirectional algorithms: K = 1 */
-        if (k == 0) {
-            connection = v3_add(take(connectionRadiance, pixel), take(splatRadiance, pixel));
-            merging = take(mergingRadiance, pixel);
-        }
+        vec3 connection = v3s(0.0f), merging = v3s(0.0f);
+#ifdef BIDIRECTIONAL
+        connection = take(connectionRadiance, k * params.pixels + pixel);
+        if (k == 0)
+            connection = v3_add(connection, take(splatRadiance, pixel));
+        merging = take(mergingRadiance, k * params.pixels + pixel);
+#endif
         vec3 x = v3_add(v3_add(unidirectional, connection), merging);
         bool finite = v3_is_finite(x);
         if (!finite) {

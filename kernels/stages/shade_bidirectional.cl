@@ -35,8 +35,8 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 {
     CameraHitResult r = {0, 0};
     int depth = hit_depth(b->pathDepth, slot);
-    int pixel = b->pathPixel[slot]; /* the camera sample: its pixel, as samplesPerIteration is 1 here */
-    uint index = sample_index(params, pixel);
+    int sample = b->pathPixel[slot], pixel = sample_pixel(params, sample);
+    uint index = sample_index(params, sample);
     /* The random numbers first, as in shade.cl. */
 #if !defined(LIGHT_TRACING) && !defined(VERTEX_MERGING_ONLY)
     Uniform4 uLight = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 0u);
@@ -117,7 +117,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
     }
     r.alive = alive ? 1 : 0;
 #endif
-    add_radiance(b->pixelRadiance, pixel, L, rejected);
+    add_radiance(b->pixelRadiance, sample, L, rejected);
     return r;
 }
 

@@ -36,11 +36,14 @@ INLINE int hit_depth(__global const int* pathDepth, int slot) { return pathDepth
 /* Whether a full path of `segments` segments is within the limit. */
 INLINE bool path_fits(int segments, int maxPathLength) { return segments <= maxPathLength; }
 
-/* Camera samples. An iteration takes samplesPerIteration samples of every
- * pixel: sample s is pixel s mod pixels in pass s div pixels, and the random
+/* Samples. An iteration takes samplesPerIteration samples of every pixel:
+ * sample s is pixel s mod pixels in pass s div pixels, and the random
  * numbers of pass k of iteration i are those of sample index
  * i · samplesPerIteration + k of the pixel (core/rng.h). So an image is the
- * same, sample for sample, whatever the samples per iteration. */
+ * same, sample for sample, whatever the samples per iteration. The
+ * bidirectional algorithms number their light paths the same way: light
+ * path s is the one camera sample s connects to, and draws the numbers of
+ * pass k of its pixel's light path. */
 INLINE int sample_pixel(const LaunchParams* p, int sample)
 {
     return p->samplesPerIteration == 1 ? sample : sample % p->pixels;
