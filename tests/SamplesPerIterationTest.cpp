@@ -9,10 +9,12 @@
 // in any order, and the iteration's splats are folded in with pass 0):
 // relMSE under 1e-10, where a wrong pairing or weight is noise-sized (1e-2).
 // Merging (ppm, bpm, vcm) merges with all K passes' light vertices: another
-// estimator of the same image, compared block by block within 5 seed-to-seed
-// standard errors, at a fixed radius (alpha 1: both estimate the same
-// blurred image) large enough (0.05 of the scene) for a normalization off by
-// K to stand out. A wavefront of 256 slots for 32 × 32 pixels makes each
+// estimator of the same image. ppm and bpm are compared block by block
+// within 5 seed-to-seed standard errors (6 seeds a side), at a fixed radius
+// (alpha 1) large enough (0.05 of the scene) for a normalization off by K to
+// stand out: with merging alone both estimate the same blurred image (vcm's
+// weights between merging and connection change with η = π r² K P, and with
+// them how much of that blur its image has). A wavefront of 256 slots for 32 × 32 pixels makes each
 // iteration's passes share slots: a freed slot takes the next sample,
 // whichever pass it is in. The Cornell box with a background light has
 // every way a camera sample adds radiance (emission hits, next-event
@@ -35,7 +37,8 @@ struct Rendered {
 };
 
 Rendered renderWith(DeviceContext& device, const Scene& scene, const Bvh& bvh, Algorithm algorithm, int perIteration,
-                    int iterations, uint32_t seed = 5, float radiusFactor = 0.003f, float radiusAlpha = 0.75f)
+                    int iterations, uint32_t seed = 5, float radiusFactor = 0.003f, float radiusAlpha = 0.75f,
+                    VertexConnections connections = VertexConnections::Default, size_t maxLightVertices = 0)
 {
     RenderSettings s;
     s.algorithm = algorithm;
@@ -46,6 +49,8 @@ Rendered renderWith(DeviceContext& device, const Scene& scene, const Bvh& bvh, A
     s.techniques = true;
     s.radiusFactor = radiusFactor;
     s.radiusAlpha = radiusAlpha;
+    s.vertexConnections = connections;
+    s.maxLightVertices = maxLightVertices;
     Renderer renderer(device, scene, bvh, s);
     for (int i = 0; i < iterations; ++i) renderer.iterate();
     EXPECT_EQ(renderer.iterations(), iterations);
@@ -93,6 +98,12 @@ TEST(SamplesPerIteration, LightTracingAndBidirectionalGiveTheImageOfOneSampleEac
             // Other samples: another image (the comparison can fail).
             EXPECT_GT(compareImages(renderWith(device, scene, bvh, a, 2, 1).image, one.image).relMse, 1e-6);
         }
+        // bpt's connections queued (trace_connections adds to the sample's
+        // entry), and light paths in batches of what 700 vertices hold.
+        Rendered one = renderWith(device, scene, bvh, Algorithm::Bidirectional, 1, 4);
+        Rendered two = renderWith(device, scene, bvh, Algorithm::Bidirectional, 2, 2, 5, 0.003f, 0.75f,
+                                  VertexConnections::Queued, 700);
+        EXPECT_LT(compareImages(two.image, one.image).relMse, 1e-8) << "queued, in batches";
     }
 }
 
@@ -101,10 +112,10 @@ TEST(SamplesPerIteration, MergingConvergesToTheImageOfOneSampleEach)
     Scene scene = loadGltf(std::string(WAVEVCM_SOURCE_DIR) + "/scenes/cornell-box-background.gltf");
     Bvh bvh = buildBvh(scene.vertices);
     DeviceContext device(test::devicesUnderTest()[0]);
-    for (Algorithm a : {Algorithm::ProgressivePhotonMapping, Algorithm::VertexConnectionMerging}) {
+    for (Algorithm a : {Algorithm::ProgressivePhotonMapping, Algorithm::BidirectionalPhotonMapping}) {
         SCOPED_TRACE(algorithmName(a));
         std::vector<Image> one, two;
-        for (uint32_t seed = 1; seed <= 4; ++seed) {
+        for (uint32_t seed = 1; seed <= 6; ++seed) {
             one.push_back(renderWith(device, scene, bvh, a, 1, 8, seed, 0.05f, 1.0f).image);
             two.push_back(renderWith(device, scene, bvh, a, 2, 4, seed + 100, 0.05f, 1.0f).image);
         }

@@ -474,6 +474,12 @@ Renderer::Batches Renderer::renderBatches()
                 throw Error("the light vertices of a single light path do not fit on " + device_.info.name);
             batch_ = lightCount / 2;
             if (first > 0) return Batches::Restart;
+            // Only this first batch has run, and its light paths splatted
+            // with its η: they splat again, with the smaller batch's.
+            if (splats) {
+                splatted = 0;
+                device_.queue.enqueueFillBuffer(buffers_.splatRadiance, 0.0f, 0, size_t(pixels_) * 16);
+            }
             placeBatch();
         }
         if (useVM_) buildHashGrid();

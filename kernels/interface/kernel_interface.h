@@ -68,8 +68,8 @@ namespace wv {
 #define IMAGE_BUFFERS(X)                                                                                   \
     X(__global, float4, pixelRadiance, 0)      /* unidirectional: emission hits, NEE, background; per \
                                                   camera sample (samplesPerIteration per pixel) */         \
-    X(__global, float4, connectionRadiance, 0) /* vertex connection, camera side */                        \
-    X(__global, float4, mergingRadiance, 0)    /* vertex merging */                                        \
+    X(__global, float4, connectionRadiance, 0) /* vertex connection, camera side; per camera sample */    \
+    X(__global, float4, mergingRadiance, 0)    /* vertex merging; per camera sample */                     \
     X(__global, float4, splatRadiance, 0)      /* light tracing's splats (float compare-and-swap adds) */  \
     X(__global, float4, framebuffer, 0)        /* running mean */                                          \
     X(__global, float4, familyMeans, 0)        /* 3 per pixel: running means by family (--aov techniques) */
@@ -82,7 +82,7 @@ namespace wv {
     X(__global, MergeVertex, bucketVertices, 0) /* hash grid: the vertices as merging reads them, bucket order */ \
     X(__global, float4, connectionOrigins, 0)      /* the connection queue (connect_vertices.cl): rays */ \
     X(__global, float4, connectionDirections, 0)   /* w = tMax */                                         \
-    X(__global, float4, connectionContribution, 0) /* w: the pixel, an int (connection_pixel) */
+    X(__global, float4, connectionContribution, 0) /* w: the camera sample, an int (connection_sample) */
 
 #define RENDER_BUFFERS(X) SCENE_BUFFERS(X) PATH_STATE_BUFFERS(X) IMAGE_BUFFERS(X) LIGHT_PATH_BUFFERS(X)
 
@@ -116,9 +116,9 @@ typedef struct LaunchParams {
     /* The render */
     uint seed;
     int maxPathLength;     /* segments of a full path (path_state.h) */
-    float lightTracePaths; /* light paths per iteration, for light tracing's MIS */
+    float lightTracePaths; /* light paths per pass of an iteration (the pixels), for light tracing's MIS */
     int pixels;
-    int samplesPerIteration; /* camera samples per pixel in one iteration (pt, el; else 1): path_state.h */
+    int samplesPerIteration; /* samples (and light paths) per pixel in one iteration: path_state.h */
     int storeVertices; /* light paths: keep vertices for connection and merging */
     int techniques;    /* accumulate: running means per technique family too */
 } LaunchParams;

@@ -8,8 +8,8 @@
  *                  The sum then depends on timing only by float rounding;
  *   trace_connections the vertex connections that connect_vertices queued in
  *                  the round before (its CONNECTION_QUEUE), to the camera
- *                  path's pixel: a pixel's connections are traced by as many
- *                  work-items, so these adds are atomic too. */
+ *                  path's sample: a sample's connections are traced by as
+ *                  many work-items, so these adds are atomic too. */
 #include "core/queues.h"
 #include "geometry/bvh_traversal.h"
 #include "interface/inline.h"
@@ -92,11 +92,11 @@ __kernel void trace_connections(RENDER_KERNEL_PARAMS)
     int i = get_global_id(0);
     if (i >= min(queueCounters[COUNTER_INDEX(COUNTER_CONNECTIONS)], params.connectionCapacity))
         return;
-    int pixel = *connection_pixel(connectionContribution, i);
-    if (pixel < 0)
+    int sample = *connection_sample(connectionContribution, i);
+    if (sample < 0)
         return;
     Hit hit;
     if (trace_ray(nodes, trianglePackets, load_ray(connectionOrigins, connectionDirections, i), true, &hit, &b))
         return;
-    atomic_add_vec3(connectionRadiance, pixel, load_vec3(connectionContribution, i));
+    atomic_add_vec3(connectionRadiance, sample, load_vec3(connectionContribution, i));
 }

@@ -1,13 +1,13 @@
 /* connect_vertices (`-a bpt`, `-a vcm`): vertex connection. Every camera hit
  * with a non-delta BSDF connects to each stored vertex of the light sub-path
- * with its own index (one light path per camera path), MIS-weighted against
+ * with its own index (one light path per camera sample), MIS-weighted against
  * all other techniques (Georgiev's report, eqs. 40-41 and 37), and adds what
- * is visible to its pixel. It runs before `shade`, which then moves the path
+ * is visible to its sample. It runs before `shade`, which then moves the path
  * on. One work-item walks its light path and evaluates each connection;
  * whether the two vertices see each other is found one of two ways
  * (Renderer.h, VertexConnections):
  *   inline            the work-item traces each shadow ray itself and adds
- *                     the visible sum to its pixel;
+ *                     the visible sum to its sample;
  *   CONNECTION_QUEUE  it appends an entry per (camera vertex, light vertex)
  *                     pair to the connection queue: the shadow ray and its
  *                     contribution. trace_connections (connect.cl) traces
@@ -99,19 +99,19 @@ INLINE bool connect_to_light_vertex(const RenderBuffers* b, const LaunchParams* 
     return true;
 }
 
-/* Connection queue entry i: a shadow ray and what it adds to `pixel` if
- * nothing is in its way; pixel -1: an entry without a ray. */
-INLINE void queue_connection(const RenderBuffers* b, int i, int pixel, vec3 c, Ray shadow)
+/* Connection queue entry i: a shadow ray and what it adds to camera sample
+ * `sample` if nothing is in its way; sample -1: an entry without a ray. */
+INLINE void queue_connection(const RenderBuffers* b, int i, int sample, vec3 c, Ray shadow)
 {
-    if (pixel >= 0)
+    if (sample >= 0)
         store_ray(b->connectionOrigins, b->connectionDirections, i, shadow);
     store_vec3w(b->connectionContribution, i, c, 0.0f);
-    *connection_pixel(b->connectionContribution, i) = pixel;
+    *connection_sample(b->connectionContribution, i) = sample;
 }
 
 /* Connects the camera hit in `slot` (of `depth`) to the light path ending at
  * vertex `last`: into the connection queue from entry `first` on if `queued`
- * (returns the entries used), else traced here and added to the pixel. */
+ * (returns the entries used), else traced here and added to its sample. */
 INLINE int connect_camera_hit(const RenderBuffers* b, const LaunchParams* params, int slot, int depth, int last,
                               bool queued, int first, int* rejected)
 {
@@ -119,7 +119,7 @@ INLINE int connect_camera_hit(const RenderBuffers* b, const LaunchParams* params
     CameraVertex cv = camera_vertex(b, slot);
     if (!bsdf_has_nondelta(&cv.bsdf))
         return 0;
-    int pixel = b->pathPixel[slot];
+    int sample = b->pathPixel[slot];
     vec3 beta = load_vec3(b->pathThroughput, slot);
     vec3 L = v3s(0.0f);
     int entries = 0;
@@ -134,11 +134,11 @@ INLINE int connect_camera_hit(const RenderBuffers* b, const LaunchParams* params
         bool contributes = connect_to_light_vertex(b, params, &cv, beta, lv, &c, &shadow, rejected);
         Hit occluder;
         if (queued)
-            queue_connection(b, first + entries++, contributes ? pixel : -1, c, shadow);
+            queue_connection(b, first + entries++, contributes ? sample : -1, c, shadow);
         else if (contributes && !trace_ray(b->nodes, b->trianglePackets, shadow, true, &occluder, b))
             L = v3_add(L, c);
     }
-    add_radiance(b->connectionRadiance, pixel, L, rejected);
+    add_radiance(b->connectionRadiance, sample, L, rejected);
     return entries;
 }
 
@@ -170,7 +170,7 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
     if (n > 0 && first + n <= params.connectionCapacity) {
         int used = connect_camera_hit(&b, &params, slot, depth, last, true, first, &rejected);
         for (int i = first + used; i < first + n; ++i) /* reserved, not used */
-            *connection_pixel(connectionContribution, i) = -1;
+            *connection_sample(connectionContribution, i) = -1;
     }
 #else
     if (last >= 0)

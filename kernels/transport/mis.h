@@ -118,7 +118,7 @@ INLINE float mis_weight_nee(PathMis camera, float bsdfDirPdfW, float bsdfRevPdfW
 
 /* A light vertex connected to the camera (t = 1): cameraPdfA is the camera's
  * density of sampling the vertex (per unit area), lightPaths the light paths
- * per iteration, bsdfRevPdfW the light vertex's density of sampling its
+ * per pass of an iteration (one per pixel), bsdfRevPdfW the light vertex's density of sampling its
  * incoming direction from the camera's (eqs. 46-47). */
 INLINE float mis_weight_light_to_camera(PathMis light, float cameraPdfA, float lightPaths, float bsdfRevPdfW,
                                         float vmWeightFactor)

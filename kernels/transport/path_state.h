@@ -70,10 +70,10 @@ INLINE void store_ray(__global float4* origins, __global float4* directions, int
     store_vec3w(directions, slot, r.direction, r.tMax);
 }
 
-/* The pixel of connection queue entry i (connect_vertices.cl): an int in its
- * contribution's w, written and read as an int, since -1 as a float's bits
- * is a NaN, which a compiler may turn into another. */
-INLINE __global int* connection_pixel(__global float4* contributions, int i)
+/* The camera sample of connection queue entry i (connect_vertices.cl): an
+ * int in its contribution's w, written and read as an int, since -1 as a
+ * float's bits is a NaN, which a compiler may turn into another. */
+INLINE __global int* connection_sample(__global float4* contributions, int i)
 {
     return (__global int*)contributions + 4 * i + 3;
 }
