@@ -1,6 +1,7 @@
-// The sampler (kernels/core/rng.h): each sample's sequence over iterations
-// is stratified in both of its 2-D pairs at every power of two, and draws
-// are uniform and independent across samples, pairs, bounces and blocks.
+// The sampler (kernels/core/rng.h): at the stratified bounces each sample's
+// sequence over iterations is stratified in both of its 2-D pairs at every
+// power of two; deeper bounces draw independent numbers; draws are uniform
+// and independent across iterations, samples, pairs, bounces and blocks.
 // All draws are deterministic, so each test passes or fails the same way
 // every run; the tolerances say how unlikely a failure of a truly uniform,
 // independent generator would be.
@@ -72,6 +73,18 @@ double chiSquareBound(int bins)
     return dof + 6 * std::sqrt(2 * dof);
 }
 
+// RNG_STRATIFIED_BOUNCES as the kernels see it.
+uint32_t stratifiedBounces(DeviceContext& device, const cl::Program& program)
+{
+    cl::Buffer out = deviceBuffer(device, sizeof(uint32_t), "stratified bounces");
+    cl::Kernel k(program, "sampler_stratified_bounces");
+    k.setArg(0, out);
+    device.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(1));
+    uint32_t n = 0;
+    device.queue.enqueueReadBuffer(out, CL_TRUE, 0, sizeof(n), &n);
+    return n;
+}
+
 // Runs `check(device, program)` on every device: the draws are integer
 // arithmetic, the same on all of them.
 template <typename Check> void onEveryDevice(Check check)
@@ -83,34 +96,68 @@ template <typename Check> void onEveryDevice(Check check)
     }
 }
 
-// Every run of 2^m iterations from 0 (and the second such run) is a net in
-// (y, z) and in (x, w), for several samples, bounces and blocks; 24-bit
-// floats resolve cells down to 2^-12 × 2^-12.
+// At each stratified bounce, every run of 2^m iterations from 0 (and the
+// second such run) is a net in (y, z) and in (x, w), for several samples and
+// blocks; 24-bit floats resolve cells down to 2^-12 × 2^-12.
 TEST(Sampler, StratifiedAtEveryPowerOfTwo)
 {
     onEveryDevice([](DeviceContext& device, const cl::Program& program) {
-    for (Request r : {Request{}, Request{7, 0, 1, 12345, 0, 3, 1}, Request{99, 0, 1, 1u << 20, 0, 9, 3}}) {
+    uint32_t stratified = stratifiedBounces(device, program);
+    ASSERT_GE(stratified, 2u) << "the camera or light sample and the first scattering are stratified";
+    for (uint32_t bounce = 0; bounce < stratified; ++bounce)
+    for (Request r : {Request{7, 0, 1, 0, 0, bounce, 0}, Request{7, 0, 1, 12345, 0, bounce, 1},
+                      Request{99, 0, 1, 1u << 20, 0, bounce, 3}}) {
         std::vector<Draw> d = draws(device, program, r, 1 << 13);
         for (int m = 0; m <= 12; ++m)
             for (size_t start : {size_t(0), size_t(1) << m}) {
-                EXPECT_TRUE(isNet(d, 1, 2, start, m)) << "(y, z), 2^" << m << " from " << start;
-                EXPECT_TRUE(isNet(d, 0, 3, start, m)) << "(x, w), 2^" << m << " from " << start;
+                EXPECT_TRUE(isNet(d, 1, 2, start, m)) << "(y, z), 2^" << m << " from " << start << ", bounce " << bounce;
+                EXPECT_TRUE(isNet(d, 0, 3, start, m)) << "(x, w), 2^" << m << " from " << start << ", bounce " << bounce;
             }
     }
     });
 }
 
+// Past the stratified bounces, one sample's draws along 65,536 iterations
+// are uniform in every pair of dimensions, independent of the next bounce's,
+// and independent numbers, not a net: 2^8 independent points leave about
+// 256/e ≈ 94 of a 16 × 16 grid's cells empty (standard deviation ≈ 6), a
+// net none.
+TEST(Sampler, IndependentPastTheStratifiedBounces)
+{
+    onEveryDevice([](DeviceContext& device, const cl::Program& program) {
+    uint32_t stratified = stratifiedBounces(device, program);
+    for (uint32_t bounce : {stratified, stratified + 1, 9u}) {
+        Request r{7, 0, 1, 4242, 0, bounce, 1}, next = r;
+        next.bounce = bounce + 1;
+        std::vector<Draw> d = draws(device, program, r, 1 << 16), e = draws(device, program, next, 1 << 16);
+        for (int c = 0; c < 4; ++c)
+            EXPECT_LT(chiSquare(d, c, e, c, 16), chiSquareBound(16))
+                << "dimension " << c << " at bounces " << bounce << " and " << bounce + 1;
+        for (auto [cx, cy] : {std::pair{0, 1}, std::pair{1, 2}, std::pair{2, 3}, std::pair{0, 3}, std::pair{0, 2},
+                              std::pair{1, 3}})
+            EXPECT_LT(chiSquare(d, cx, d, cy, 16), chiSquareBound(16)) << "bounce " << bounce << ", dimensions "
+                                                                       << cx << ", " << cy;
+        std::set<uint64_t> cells;
+        for (size_t i = 0; i < 256; ++i)
+            cells.insert(uint64_t(d[i][1] * 16) << 32 | uint64_t(d[i][2] * 16));
+        EXPECT_GT(256 - cells.size(), 60u) << "bounce " << bounce << ": the first 256 draws are stratified";
+    }
+    });
+}
+
 // At one iteration, 65,536 samples' draws are uniform in each pair of
-// dimensions, the pairs that are stratified and those that are not.
+// dimensions, the pairs that are stratified and those that are not, at a
+// stratified bounce and a deeper one.
 TEST(Sampler, UniformAcrossSamples)
 {
     onEveryDevice([](DeviceContext& device, const cl::Program& program) {
+    for (uint32_t bounce : {1u, 2u})
     for (uint32_t iteration : {0u, 5u, 1000u}) {
-        Request r{7, iteration, 0, 0, 1, 2, 0};
+        Request r{7, iteration, 0, 0, 1, bounce, 0};
         std::vector<Draw> d = draws(device, program, r, 1 << 16);
         for (auto [cx, cy] : {std::pair{0, 1}, std::pair{1, 2}, std::pair{2, 3}, std::pair{0, 3}, std::pair{0, 2}})
             EXPECT_LT(chiSquare(d, cx, d, cy, 16), chiSquareBound(16))
-                << "iteration " << iteration << ", dimensions " << cx << ", " << cy;
+                << "bounce " << bounce << ", iteration " << iteration << ", dimensions " << cx << ", " << cy;
     }
     });
 }

@@ -1,10 +1,17 @@
 /* Random numbers: each sample (a pixel's camera path, or a light path) draws
- * 4-D blocks, each two 2-D pairs of an Owen-scrambled, shuffled Sobol
+ * 4-D blocks, seeded by a hash of (seed, sample, bounce, block). At the first
+ * RNG_STRATIFIED_BOUNCES bounces (the camera or light sample and the first
+ * scattering: pixel jitter, emission, direct-light samples and the first
+ * BSDF sample) a block is two 2-D pairs of an Owen-scrambled, shuffled Sobol
  * sequence indexed by the iteration (Burley, "Practical Hash-based Owen
- * Scrambling", JCGT 9(4), 2020), seeded by a hash of (seed, sample, bounce,
- * block). A pixel's first 2^m iterations are then stratified in every 2-D
- * pair (jitter, light sample, BSDF sample), which independent numbers are
- * not, while different pairs, bounces, samples and seeds stay independent.
+ * Scrambling", JCGT 9(4), 2020): a pixel's first 2^m iterations are then
+ * stratified in each pair, which independent numbers are not, while
+ * different pairs, bounces, samples and seeds stay independent. Deeper
+ * bounces draw independent hashed numbers: there a pixel's iterations
+ * stratify a path space of many dimensions too thinly to lower the error
+ * (pt on the Cornell box, 32 iterations at 256x256, 32 seeds: relMSE
+ * 0.8 % +- 0.8 % above all-stratified), and a hashed block costs less than
+ * half a stratified one (pt's shade 14 % faster).
  * A draw is a pure function of its arguments and integer arithmetic, so every
  * device draws the same numbers and images from different devices (or MPI
  * ranks) can be compared sample for sample. */
@@ -12,6 +19,8 @@
 #define WAVEVCM_RNG_H
 
 #include "interface/inline.h"
+
+#define RNG_STRATIFIED_BOUNCES 2u
 
 /* Four draws, as scalars: a uint4 or float4 would keep PoCL from running
  * the kernel's work-items in SIMD (core/vec3.h). */
@@ -87,19 +96,34 @@ INLINE void owen_sobol2(uint reversedIndex, uint seed, uint* x, uint* y)
     *y = reverse_bits32(laine_karras(sobol1_reversed(j), hash32(seed ^ 0xB5297A4Du)));
 }
 
+/* Four independent uniform numbers of block h at `iteration`: four hashes
+ * of one hash of the pair, computed side by side. */
+INLINE void hashed4(uint h, uint iteration, uint* x, uint* y, uint* z, uint* w)
+{
+    uint k = hash32(h ^ (iteration * 0x9E3779B9u)); /* a bijection of the iteration for each h */
+    *x = hash32(k + 0x68E31DA4u);
+    *y = hash32(k + 0xB5297A4Du);
+    *z = hash32(k + 0x1B56C4E9u);
+    *w = hash32(k + 0x7F4A7C15u);
+}
+
 /* Four uniform numbers for dimensions [4·block, 4·block + 4) of one sample
  * at one bounce; `sample` is the pixel (camera paths) or light path index,
- * and the iteration is the index into that sample's sequence. Dimensions
- * (y, z) and (x, w) are two 2-D stratified pairs: callers take a 2-D
- * continuous sample from (y, z), a discrete choice from x and Russian
- * roulette from w. */
+ * and the iteration is the index into that sample's sequence. Below
+ * RNG_STRATIFIED_BOUNCES, dimensions (y, z) and (x, w) are two 2-D stratified
+ * pairs: callers take a 2-D continuous sample from (y, z), a discrete choice
+ * from x and Russian roulette from w. */
 INLINE Uniform4 rng_uniform4(uint seed, uint iteration, uint sample, uint bounce, uint block)
 {
     uint h = hash32(hash32(hash32(hash32(seed) ^ sample) ^ bounce) ^ block);
-    uint r = reverse_bits32(iteration);
     uint x, y, z, w;
-    owen_sobol2(r, h, &y, &z);
-    owen_sobol2(r, hash32(h ^ 0x1B873593u), &x, &w);
+    if (bounce < RNG_STRATIFIED_BOUNCES) {
+        uint r = reverse_bits32(iteration);
+        owen_sobol2(r, h, &y, &z);
+        owen_sobol2(r, hash32(h ^ 0x1B873593u), &x, &w);
+    } else {
+        hashed4(h, iteration, &x, &y, &z, &w);
+    }
     Uniform4 u = {uint_to_unit_float(x), uint_to_unit_float(y), uint_to_unit_float(z), uint_to_unit_float(w)};
     return u;
 }

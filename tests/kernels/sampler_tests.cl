@@ -12,3 +12,6 @@ __kernel void sampler_draws(uint seed, uint first, uint iterationStep, uint firs
     Uniform4 u = rng_uniform4(seed, first + (uint)i * iterationStep, firstSample + (uint)i * sampleStep, bounce, block);
     out[i] = (float4)(u.x, u.y, u.z, u.w);
 }
+
+/* The bounces whose blocks are stratified (core/rng.h), for the host. */
+__kernel void sampler_stratified_bounces(__global uint* out) { out[0] = RNG_STRATIFIED_BOUNCES; }
