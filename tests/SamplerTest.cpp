@@ -120,7 +120,7 @@ TEST(Sampler, StratifiedAtEveryPowerOfTwo)
 // Past the stratified bounces, one sample's draws along 65,536 iterations
 // are uniform in every pair of dimensions, independent of the next bounce's,
 // and independent numbers, not a net: 2^8 independent points leave about
-// 256/e ≈ 94 of a 16 × 16 grid's cells empty (standard deviation ≈ 6), a
+// 256/e ≈ 94 of a 16 × 16 grid's cells empty (standard deviation ≈ 5), a
 // net none.
 TEST(Sampler, IndependentPastTheStratifiedBounces)
 {

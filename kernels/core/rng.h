@@ -11,7 +11,7 @@
  * stratify a path space of many dimensions too thinly to lower the error
  * (pt on the Cornell box, 32 iterations at 256x256, 32 seeds: relMSE
  * 0.8 % +- 0.8 % above all-stratified), and a hashed block costs less than
- * half a stratified one (pt's shade 14 % faster).
+ * half a stratified one (pt's shade takes 14 % less time).
  * A draw is a pure function of its arguments and integer arithmetic, so every
  * device draws the same numbers and images from different devices (or MPI
  * ranks) can be compared sample for sample. */
