@@ -107,6 +107,12 @@ INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* 
      * in (deltaT, tMax), so closest-hit and any-hit agree at every segment end. */
     float4 invDet = 1.0f / det;
     float4 tHit = T * invDet;
+    /* Within (0, tMax) first: since deltaT >= 0 this rejects nothing the
+     * test below keeps, and packets whose triangles' planes the ray meets
+     * only behind it or past tMax (most, for a shadow ray) skip the bound. */
+    hit = hit && tHit < tMax && tHit > 0.0f;
+    if (!any(hit))
+        return -1;
     /* t must exceed its own rounding error (pbrt-v4, Triangle::Intersect,
      * after Woop et al. §4): a ray that starts on the triangle, e.g. on a
      * plane through the origin where the hit point's error bound and so the
@@ -119,7 +125,7 @@ INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* 
     float4 deltaE = 2.0f * (GAMMA(2) * maxX * maxY + deltaY * maxX + deltaX * maxY);
     float4 maxE = fmax(fabs(U), fmax(fabs(V), fabs(W)));
     float4 deltaT = 3.0f * (GAMMA(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * fabs(invDet);
-    hit = hit && tHit < tMax && tHit > deltaT;
+    hit = hit && tHit > deltaT;
 
     /* The nearest lane; on a tie the first. */
     float4 tLane = select((float4)(INFINITY), tHit, hit);
