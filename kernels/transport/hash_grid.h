@@ -14,13 +14,19 @@ INLINE int3 grid_cell(float3 p, float cellSize)
     return (int3)((int)c.x, (int)c.y, (int)c.z);
 }
 
-/* Teschner et al.'s spatial hash (SmallVCM's), folded to the table's
- * 2^k buckets by a multiplicative (Fibonacci) hash: its top k bits mix all
- * of the hash's bits, where `% cellCount` costs an integer division. */
+/* Cells are hashed in blocks of 2×2×2, whose eight cells take eight
+ * consecutive buckets: the bucket starts and the records of the 2×2×2 cells
+ * a query visits then lie in the query's 1-8 blocks (3.4 on average) instead
+ * of in eight places anywhere in the grid. A block's hash is Teschner et
+ * al.'s spatial hash (SmallVCM's), folded to the table's 2^k / 8 blocks by a
+ * multiplicative (Fibonacci) hash, whose top bits mix all of the hash's bits
+ * where `% cellCount` costs an integer division. */
 INLINE uint grid_bucket(int3 cell, uint cellCount)
 {
-    uint h = ((uint)cell.x * 73856093u) ^ ((uint)cell.y * 19349663u) ^ ((uint)cell.z * 83492791u);
-    return (h * 2654435769u) >> (clz(cellCount) + 1);
+    int3 block = cell >> 1; /* arithmetic shift: floor(cell / 2) */
+    uint h = ((uint)block.x * 73856093u) ^ ((uint)block.y * 19349663u) ^ ((uint)block.z * 83492791u);
+    uint inBlock = (uint)(cell.x & 1) | (uint)(cell.y & 1) << 1 | (uint)(cell.z & 1) << 2;
+    return (h * 2654435769u) >> (clz(cellCount) + 4) << 3 | inBlock;
 }
 
 /* The buckets of the 2×2×2 cells nearest x, with duplicates (two cells
