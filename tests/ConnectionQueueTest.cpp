@@ -11,8 +11,7 @@
 // every phase runs many rounds, and room for 700 light vertices (and as
 // many queued connections), so that vcm's light paths come in batches.
 // Queued with rounds enqueued ahead too: trace_connections is then launched
-// over the queue's length and finds the round's count on the device. bpt
-// and vcm on the first device, vcm on the others.
+// over the queue's length and finds the round's count on the device.
 #include "TestDevices.h"
 #include "bvh/Bvh.h"
 #include "render/Renderer.h"
@@ -79,8 +78,6 @@ TEST(ConnectionQueue, GivesTheImageOfTracingInline)
         for (const DeviceInfo& info : test::devicesUnderTest()) {
             SCOPED_TRACE(info.name);
             for (Algorithm a : {Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}) {
-                if (a == Algorithm::Bidirectional && info.name != test::devicesUnderTest()[0].name)
-                    continue; // the same connection code as vcm's: bpt on the first device only
                 SCOPED_TRACE(algorithmName(a));
                 Rendered inlined = renderWith(info, scene, bvh, a, VertexConnections::Inline);
                 Rendered queued = renderWith(info, scene, bvh, a, VertexConnections::Queued);

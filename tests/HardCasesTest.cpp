@@ -1,8 +1,7 @@
 // The scenes of scenes/hard/ (scripts/make_hard_scenes.py), which stress
-// numerical robustness: every algorithm stays finite (pt, bpt and vcm on
-// every device), scale and distance from the origin leave the image
-// unchanged, a closed box lets no light in, and merge radii far from the
-// scene's scale stay finite.
+// numerical robustness: every algorithm on every device stays finite, scale
+// and distance from the origin leave the image unchanged, a closed box lets
+// no light in, and merge radii far from the scene's scale stay finite.
 #include "TestDevices.h"
 #include "TestRendering.h"
 #include "scene/GltfLoader.h"
@@ -10,9 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <iterator>
 #include <string>
-#include <vector>
 
 namespace wv {
 namespace {
@@ -25,16 +22,6 @@ const Algorithm kAlgorithms[] = {Algorithm::PathTracing,
                                  Algorithm::ProgressivePhotonMapping,
                                  Algorithm::BidirectionalPhotonMapping,
                                  Algorithm::VertexConnectionMerging};
-
-// Every algorithm on the first device; on the others (rusticl), pt, bpt and
-// vcm, whose kernels together run every stage (lt, ppm and bpm are the same
-// kernels under other switches). Each algorithm is a program of its own, and
-// building them cold on rusticl was minutes of the CI run.
-std::vector<Algorithm> algorithmsFor(const DeviceInfo& device)
-{
-    if (device.name == test::devicesUnderTest()[0].name) return {std::begin(kAlgorithms), std::end(kAlgorithms)};
-    return {Algorithm::PathTracing, Algorithm::Bidirectional, Algorithm::VertexConnectionMerging};
-}
 
 Scene hardScene(const std::string& name)
 {
@@ -68,7 +55,7 @@ TEST(HardCases, EveryAlgorithmStaysFiniteOnEveryDevice)
     for (const char* name : kHardScenes) {
         Scene scene = hardScene(name);
         for (const DeviceInfo& device : test::devicesUnderTest())
-            for (Algorithm a : algorithmsFor(device)) {
+            for (Algorithm a : kAlgorithms) {
                 SCOPED_TRACE(std::string(name) + ", " + algorithmName(a) + ", " + device.name);
                 expectFinite(test::render(device, scene, a, 24, 24, 2, 7));
             }
@@ -199,7 +186,7 @@ TEST(HardCases, OverflowingSamplesAreCountedNotWritten)
     scene.camera.forward = {0, 0, -1};
     scene.camera.yfov = 1.0f;
     for (const DeviceInfo& device : test::devicesUnderTest())
-        for (Algorithm a : algorithmsFor(device)) {
+        for (Algorithm a : kAlgorithms) {
             SCOPED_TRACE(algorithmName(a) + ", " + device.name);
             test::Render r = test::render(device, scene, a, 16, 16, 2, 1);
             EXPECT_GT(r.nonFinite, 0u) << "the overflowing samples were not counted";
