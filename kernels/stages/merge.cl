@@ -39,7 +39,7 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
      * misses overlap instead of each bucket waiting for the one before. */
     for (int k = 0; k < 8; ++k)
         if (buckets[k] >= 0)
-            PREFETCH(&bucketStarts[buckets[k]], 8);
+            PREFETCH(&bucketStarts[buckets[k]], 4); /* its end, the next int, shares the line 15 times in 16 */
     for (int k = 0; k < 8; ++k)
         if (buckets[k] >= 0)
             PREFETCH(&bucketVertices[bucketStarts[buckets[k]]], 16);
