@@ -82,6 +82,14 @@ def closed_box():
             indices.append(index_of[p])
     normals = [tuple(c / math.sqrt(3) for c in p) for p in positions]
     scene.add_mesh("box", (positions, normals, indices), WHITE)
+    # A mirror and a glass sphere inside: specular paths cannot let light in
+    # either. (They also give the box the lobes of light-transport.gltf, so
+    # the tests build one program per algorithm for both scenes.)
+    sphere = scene.add_geometry(*uv_sphere())
+    scene.add_mesh("mirror_sphere", sphere, MIRROR,
+                   translation=[0.5, 0.5, 0.5], scale=[0.2] * 3)
+    scene.add_mesh("glass_sphere", sphere, GLASS,
+                   translation=[0.5, -0.6, 0.4], scale=[0.2] * 3)
     scene.add_mesh("outside_light", quad((-2, 3, -2), (4, 0, 0), (0, 0, 4)),
                    emitter("outside_light", [1, 1, 1], 50.0))
     scene.add_light("outside_point", "point", [1, 1, 1], 100.0,
@@ -90,7 +98,8 @@ def closed_box():
     scene.add_camera(1.4, 1.0, translation=[-0.2, -0.2, -0.2],
                      rotation=look_rotation((-1.0, -0.8, -1.0)))
     return document(scene, "a closed box of shared-edge triangles, camera "
-                           "inside, lights outside: must render black",
+                           "inside with a mirror and a glass sphere, lights "
+                           "outside: must render black",
                     background=[1.0, 1.0, 1.0])
 
 
@@ -117,7 +126,8 @@ def degenerate_geometry():
 
 
 def light_transport():
-    """Lights and materials at their limits, in the Cornell box."""
+    """Lights and materials at their limits, in the Cornell box, with a dim
+    background through its open side (a light at infinity as well)."""
     scene = cornell_box("light_transport", without={"light"})
     sphere = scene.add_geometry(*uv_sphere())
     # A light inside a glass sphere (only caustic paths leave it) and a point
@@ -161,7 +171,8 @@ def light_transport():
                            "glass of IOR 1.0 and 2.4, roughness 0 and 1e-4, "
                            "shading normals against the geometric normal, "
                            "facing mirrors (specular chains past the path "
-                           "length)")
+                           "length), a dim background through the open side",
+                    background=[0.05, 0.05, 0.05])
 
 
 SCENES = {
