@@ -59,11 +59,12 @@ Material smoothGlass(float ior)
     return glass;
 }
 
-Render render(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, int width, int height, int iterations,
-              uint32_t seed, int maxPathLength, float radiusFactor)
+// One render on an existing context and tree (renderSeeds shares them
+// between its seeds: a context and the scene's tree per render cost the
+// seed loops of the convergence tests a share of their time).
+static Render renderOn(DeviceContext& device, const Scene& scene, const Bvh& bvh, Algorithm algorithm, int width,
+                       int height, int iterations, uint32_t seed, int maxPathLength, float radiusFactor)
 {
-    DeviceContext device(info);
-    Bvh bvh = buildBvh(scene.vertices);
     RenderSettings s;
     s.algorithm = algorithm;
     s.width = width;
@@ -77,13 +78,24 @@ Render render(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, i
     return {renderer.image(), renderer.nonFiniteCount()};
 }
 
-std::vector<Image> renderSeeds(const DeviceInfo& device, const Scene& scene, Algorithm algorithm, int width,
+Render render(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, int width, int height, int iterations,
+              uint32_t seed, int maxPathLength, float radiusFactor)
+{
+    DeviceContext device(info);
+    Bvh bvh = buildBvh(scene.vertices);
+    return renderOn(device, scene, bvh, algorithm, width, height, iterations, seed, maxPathLength, radiusFactor);
+}
+
+std::vector<Image> renderSeeds(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, int width,
                                int height, int iterations, int seeds, int maxPathLength, float radiusFactor)
 {
+    DeviceContext device(info);
+    Bvh bvh = buildBvh(scene.vertices);
     std::vector<Image> out;
     for (int s = 1; s <= seeds; ++s)
-        out.push_back(
-            render(device, scene, algorithm, width, height, iterations, uint32_t(s), maxPathLength, radiusFactor).image);
+        out.push_back(renderOn(device, scene, bvh, algorithm, width, height, iterations, uint32_t(s), maxPathLength,
+                               radiusFactor)
+                          .image);
     return out;
 }
 
