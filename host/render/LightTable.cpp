@@ -58,9 +58,15 @@ LightTable buildLightTable(const Scene& scene, const Bvh& bvh)
 
     t.lights = scene.lights;
     std::vector<double> powerScale(t.lights.size(), 1.0); // emissive textures' means
+    // Emitters in the scene's triangle order, so that which light a random
+    // number selects, and so the image at a given seed, does not depend on
+    // how the BVH orders the triangles; each keeps its BVH position, which is
+    // how the kernels name triangles.
+    std::vector<uint32_t> bvhPosition(bvh.triangleOrder.size());
+    for (size_t i = 0; i < bvh.triangleOrder.size(); ++i) bvhPosition[bvh.triangleOrder[i]] = uint32_t(i);
     t.triangleLight.assign(bvh.triangleOrder.size(), -1);
-    for (size_t i = 0; i < bvh.triangleOrder.size(); ++i) {
-        uint32_t tri = bvh.triangleOrder[i];
+    for (uint32_t tri = 0; tri < bvhPosition.size(); ++tri) {
+        uint32_t i = bvhPosition[tri];
         const Material& m = scene.materials[scene.triangleMaterial[tri]];
         if (luminance(m.emission) <= 0) continue;
         const Vec3* v = &scene.vertices[3 * tri];
