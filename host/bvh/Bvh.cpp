@@ -21,6 +21,10 @@ namespace {
 
 constexpr int kBins = 16;
 constexpr int kMaxLeafSize = 8;
+// Nodes of at most this many triangles, most of the tree's, are binned and
+// partitioned by binSmall and partitionSmall (32, 64, 128 and 256 measured:
+// 64 as fast as any).
+constexpr uint32_t kSmallNode = 64;
 constexpr float kTraversalCost = 1.0f;   // relative to one triangle test
 // Past this depth splits are object medians, which halve the count and so
 // finish within log2(n) <= 31 more levels: depth stays within kMaxBvhDepth.
@@ -115,6 +119,14 @@ private:
     std::list<LargeArray<BinaryNode>> arrays_;
 };
 
+// A node's triangles binned by centroid on each axis: per bin the triangles'
+// box and count, set only where `occupied` has the bin's bit.
+struct Bins {
+    V4 lo[3][kBins], hi[3][kBins];
+    uint32_t count[3][kBins];
+    uint32_t occupied[3];
+};
+
 class Builder {
 public:
     // Subtrees at depth < parallelDepth are built in parallel: 2^parallelDepth
@@ -169,47 +181,17 @@ private:
 
         // Binned SAH (Wald 2007) on all three axes in one pass over the
         // triangles: cost of a split = traversal + Σ_side area(side)/area(node) · count(side).
-        // Two sets of bins, for even and odd triangles, summed after the
-        // pass: neighbouring triangles often fall into the same bins, and
-        // with one set each extend waited for the one before it.
-        Box4 bin[3][kBins], bin2[3][kBins];
-        uint32_t binCount[3][kBins] = {}, binCount2[3][kBins] = {};
         V4 scale = {0, 0, 0, 0};
         for (int a = 0; a < 3; ++a) {
             float e = centroids.extent()[a];
             scale[a] = e > 0.0f ? kBins / e : 0.0f;
         }
         V4 origin = extent.centroids.lo;
-        auto binOf = [&](V4 lo, V4 hi) {
-            I4 b = __builtin_convertvector(((lo + hi) * 0.5f - origin) * scale, I4);
-            return b < kBins - 1 ? b : I4{kBins - 1, kBins - 1, kBins - 1, kBins - 1};
-        };
-        uint32_t k = begin;
-        for (; k + 1 < end; k += 2) {
-            const BuildTriangle& t = tris_[k];
-            const BuildTriangle& u = tris_[k + 1];
-            V4 lo = t.lo, hi = t.hi(), lo2 = u.lo, hi2 = u.hi();
-            I4 b = binOf(lo, hi), b2 = binOf(lo2, hi2);
-            for (int a = 0; a < 3; ++a) {
-                bin[a][b[a]].extend(lo, hi);
-                binCount[a][b[a]]++;
-                bin2[a][b2[a]].extend(lo2, hi2);
-                binCount2[a][b2[a]]++;
-            }
-        }
-        if (k < end) {
-            V4 lo = tris_[k].lo, hi = tris_[k].hi();
-            I4 b = binOf(lo, hi);
-            for (int a = 0; a < 3; ++a) {
-                bin[a][b[a]].extend(lo, hi);
-                binCount[a][b[a]]++;
-            }
-        }
-        for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < kBins; ++b) {
-                bin[a][b].extend(bin2[a][b]);
-                binCount[a][b] += binCount2[a][b];
-            }
+        Bins bins;
+        I4 binIndex[kSmallNode]; // a small node's triangles' bins
+        bool small = count <= kSmallNode;
+        if (small) binSmall(begin, end, origin, scale, bins, binIndex);
+        else binLarge(begin, end, origin, scale, bins);
         // The sweep visits occupied bins only: a split beside an empty bin
         // costs the same as the one before it, never strictly less.
         float bestCost = INFINITY;
@@ -217,25 +199,22 @@ private:
         for (int a = 0; a < 3; ++a) {
             if (scale[a] == 0.0f) continue;
             int occupied[kBins], m = 0;
-            for (int b = 0; b < kBins; ++b) {
-                occupied[m] = b;
-                m += binCount[a][b] > 0;
-            }
+            for (uint32_t bits = bins.occupied[a]; bits; bits &= bits - 1) occupied[m++] = __builtin_ctz(bits);
             float rightArea[kBins];
             uint32_t rightCount[kBins];
             Box4 acc;
             uint32_t n = 0;
             for (int j = m - 1; j > 0; --j) {
-                acc.extend(bin[a][occupied[j]]);
-                n += binCount[a][occupied[j]];
+                acc.extend(bins.lo[a][occupied[j]], bins.hi[a][occupied[j]]);
+                n += bins.count[a][occupied[j]];
                 rightArea[j] = acc.surfaceArea();
                 rightCount[j] = n;
             }
             acc = Box4();
             n = 0;
             for (int j = 0; j < m - 1; ++j) {
-                acc.extend(bin[a][occupied[j]]);
-                n += binCount[a][occupied[j]];
+                acc.extend(bins.lo[a][occupied[j]], bins.hi[a][occupied[j]]);
+                n += bins.count[a][occupied[j]];
                 float cost = acc.surfaceArea() * n + rightArea[j + 1] * rightCount[j + 1];
                 if (cost < bestCost) { bestCost = cost; bestAxis = a; bestBin = occupied[j]; }
             }
@@ -245,7 +224,11 @@ private:
         if (count <= kMaxLeafSize && splitCost >= float(count)) return begin;
         if (bestAxis < 0) return medianSplit(begin, end, axis, left, right);
 
-        for (int b = 0; b < kBins; ++b) (b <= bestBin ? left : right)->bounds.extend(bin[bestAxis][b]);
+        for (uint32_t bits = bins.occupied[bestAxis]; bits; bits &= bits - 1) {
+            int b = __builtin_ctz(bits);
+            (b <= bestBin ? left : right)->bounds.extend(bins.lo[bestAxis][b], bins.hi[bestAxis][b]);
+        }
+        if (small) return partitionSmall(begin, end, bins, binIndex, bestAxis, bestBin, left, right);
         // Partition in place (two cursors, each triangle looked at once),
         // gathering each side's centroid bounds on the way.
         float lo = origin[bestAxis], s = scale[bestAxis];
@@ -258,6 +241,118 @@ private:
             std::swap(tris_[i], tris_[j - 1]);
         }
         return i;
+    }
+
+    // The bin of a triangle's centroid on each axis.
+    static I4 binOf(V4 lo, V4 hi, V4 origin, V4 scale)
+    {
+        I4 b = __builtin_convertvector(((lo + hi) * 0.5f - origin) * scale, I4);
+        return b < kBins - 1 ? b : I4{kBins - 1, kBins - 1, kBins - 1, kBins - 1};
+    }
+
+    // Bins of a large node: every bin set up, then one pass over the
+    // triangles with two sets of bins, for even and odd triangles, summed
+    // after it: neighbouring triangles often fall into the same bins, and with
+    // one set each extend waited for the one before it.
+    void binLarge(uint32_t begin, uint32_t end, V4 origin, V4 scale, Bins& bins) const
+    {
+        Box4 bin[3][kBins], bin2[3][kBins];
+        uint32_t binCount[3][kBins] = {}, binCount2[3][kBins] = {};
+        uint32_t k = begin;
+        for (; k + 1 < end; k += 2) {
+            const BuildTriangle& t = tris_[k];
+            const BuildTriangle& u = tris_[k + 1];
+            V4 lo = t.lo, hi = t.hi(), lo2 = u.lo, hi2 = u.hi();
+            I4 b = binOf(lo, hi, origin, scale), b2 = binOf(lo2, hi2, origin, scale);
+            for (int a = 0; a < 3; ++a) {
+                bin[a][b[a]].extend(lo, hi);
+                binCount[a][b[a]]++;
+                bin2[a][b2[a]].extend(lo2, hi2);
+                binCount2[a][b2[a]]++;
+            }
+        }
+        if (k < end) {
+            V4 lo = tris_[k].lo, hi = tris_[k].hi();
+            I4 b = binOf(lo, hi, origin, scale);
+            for (int a = 0; a < 3; ++a) {
+                bin[a][b[a]].extend(lo, hi);
+                binCount[a][b[a]]++;
+            }
+        }
+        for (int a = 0; a < 3; ++a) {
+            bins.occupied[a] = 0;
+            for (int b = 0; b < kBins; ++b) {
+                bin[a][b].extend(bin2[a][b]);
+                bins.lo[a][b] = bin[a][b].lo;
+                bins.hi[a][b] = bin[a][b].hi;
+                bins.count[a][b] = binCount[a][b] + binCount2[a][b];
+                bins.occupied[a] |= uint32_t(bins.count[a][b] > 0) << b;
+            }
+        }
+    }
+
+    // Bins of a small node, the same as binLarge's: only the bins its
+    // triangles fall into are written, so the cost does not grow with kBins,
+    // and without a branch on the data (a branch on whether a bin was written
+    // already, taken at random, made it no faster than binLarge). Each
+    // triangle's bins go to binIndex for partitionSmall.
+    void binSmall(uint32_t begin, uint32_t end, V4 origin, V4 scale, Bins& bins, I4* binIndex) const
+    {
+        // Two passes without a branch on the data: the bins hit are set
+        // empty (a bin hit twice is set twice), then extended.
+        const V4 empty = {INFINITY, INFINITY, INFINITY, INFINITY};
+        uint32_t occupied[3] = {0, 0, 0};
+        for (uint32_t k = begin; k < end; ++k) {
+            I4 b = binIndex[k - begin] = binOf(tris_[k].lo, tris_[k].hi(), origin, scale);
+            for (int a = 0; a < 3; ++a) {
+                bins.lo[a][b[a]] = empty;
+                bins.hi[a][b[a]] = -empty;
+                bins.count[a][b[a]] = 0;
+                occupied[a] |= 1u << b[a];
+            }
+        }
+        for (uint32_t k = begin; k < end; ++k) {
+            V4 lo = tris_[k].lo, hi = tris_[k].hi();
+            I4 b = binIndex[k - begin];
+            for (int a = 0; a < 3; ++a) {
+                bins.lo[a][b[a]] = vmin(bins.lo[a][b[a]], lo);
+                bins.hi[a][b[a]] = vmax(bins.hi[a][b[a]], hi);
+                bins.count[a][b[a]]++;
+            }
+        }
+        for (int a = 0; a < 3; ++a) bins.occupied[a] = occupied[a];
+    }
+
+    // The partition of a small node by the bins binSmall found, with each
+    // side's centroid bounds: stable, through a copy, without a branch on the
+    // side, which deep in the tree is no longer predictable from the
+    // triangle before (the two-cursor partition below branches on it).
+    uint32_t partitionSmall(uint32_t begin, uint32_t end, const Bins& bins, const I4* binIndex, int axis, int bestBin,
+                            Extent* left, Extent* right)
+    {
+        uint32_t leftCount = 0;
+        for (int b = 0; b <= bestBin; ++b)
+            if (bins.occupied[axis] >> b & 1) leftCount += bins.count[axis][b];
+        BuildTriangle copy[kSmallNode];
+        std::copy(tris_.begin() + begin, tris_.begin() + end, copy);
+        const V4 inf = {INFINITY, INFINITY, INFINITY, INFINITY};
+        V4 leftLo = inf, leftHi = -inf, rightLo = inf, rightHi = -inf;
+        uint32_t l = begin, r = begin + leftCount;
+        for (uint32_t k = 0; k < end - begin; ++k) {
+            bool goesLeft = binIndex[k][axis] <= bestBin;
+            tris_[goesLeft ? l : r] = copy[k];
+            l += goesLeft;
+            r += !goesLeft;
+            V4 c = copy[k].centroid();
+            I4 toLeft = I4{0, 0, 0, 0} - int32_t(goesLeft); // all ones on the left
+            leftLo = vmin(leftLo, V4((I4(c) & toLeft) | (I4(inf) & ~toLeft)));
+            leftHi = vmax(leftHi, V4((I4(c) & toLeft) | (I4(-inf) & ~toLeft)));
+            rightLo = vmin(rightLo, V4((I4(c) & ~toLeft) | (I4(inf) & toLeft)));
+            rightHi = vmax(rightHi, V4((I4(c) & ~toLeft) | (I4(-inf) & toLeft)));
+        }
+        left->centroids.extend(leftLo, leftHi);
+        right->centroids.extend(rightLo, rightHi);
+        return begin + leftCount;
     }
 
     // Halves [begin, end) at the median centroid along `axis`.
@@ -545,19 +640,27 @@ Bvh buildBvh(const std::vector<Vec3>& vertices)
         all.bounds.extend(e.bounds);
         all.centroids.extend(e.centroids);
     }
-    // Two levels more than the cores need: splits near the root are often
-    // uneven, and more, smaller subtrees balance the cores.
-    int parallelDepth = 2;
-    for (unsigned threads = std::max(1u, std::thread::hardware_concurrency()); (1u << (parallelDepth - 2)) < threads;)
+    // Four levels more than the cores need: splits near the root are often
+    // uneven, and more, smaller subtrees balance the cores. (With two more,
+    // the 1M-triangle displaced sphere's binary build kept 1.6 of 2 cores
+    // busy and took 0.29-0.34 s; with four, 0.25-0.27 s.)
+    int parallelDepth = 4;
+    for (unsigned threads = std::max(1u, std::thread::hardware_concurrency()); (1u << (parallelDepth - 4)) < threads;)
         ++parallelDepth;
     NodeArrays arrays;
     const BinaryNode* root = Builder(tris, arrays, parallelDepth).node(arrays.add(count), 0, uint32_t(count), all, 0);
+    // The SAH cost, a walk of the whole binary tree that only --stats
+    // reads, is summed beside the collapse.
+    std::future<double> cost = std::async(std::launch::async, [root] { return sahCost(root); });
     Bvh bvh;
-    double rootArea = root->bounds.surfaceArea();
-    bvh.sahCost = rootArea > 0 ? sahCost(root) / rootArea : 0;
     bvh.triangleOrder.resize(count);
-    for (size_t i = 0; i < count; ++i) bvh.triangleOrder[i] = tris[i].index();
+    parallelFor(kChunks, [&](size_t chunk) {
+        for (size_t i = count * chunk / kChunks; i < count * (chunk + 1) / kChunks; ++i)
+            bvh.triangleOrder[i] = tris[i].index();
+    });
     collapse(vertices, root, bvh);
+    double rootArea = root->bounds.surfaceArea();
+    bvh.sahCost = rootArea > 0 ? cost.get() / rootArea : 0;
     bvh.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return bvh;
 }
