@@ -16,11 +16,17 @@
 namespace wv {
 namespace {
 
-// Pixels light tracing can render fully: those whose primary ray (tested at
-// the pixel's centre and corners) first hits a surface without delta lobes,
-// or nothing. Light tracing connects only to the camera (t = 1), so it
-// cannot produce a path whose camera-side vertex is specular: a mirror seen
-// directly stays black in `lt`, by design. Brute force in double on the host.
+// Pixels light tracing renders fully and without heavy tails: those whose
+// primary ray (tested at the pixel's centre and corners) first hits a
+// diffuse surface, or nothing. Light tracing connects only to the camera
+// (t = 1), so it cannot produce a path whose camera-side vertex is specular:
+// a mirror seen directly stays black in `lt`, by design. A glossy surface
+// seen directly it renders, but as sparkles: light paths that happen to
+// land where the lobe points at the camera (the gold teapot of `caustics`,
+// roughness 0.15). Over 8 seeds those are rare and bright, so the
+// seed-to-seed spread says nothing about the mean's error: there bpt and lt
+// differed by 5.5-6.6 standard errors for three of six seed sets tried.
+// Brute force in double on the host.
 std::vector<bool> lightTracingMask(const Scene& scene, int width, int height)
 {
     Camera cam = makeCamera(scene.camera, width, height);
@@ -55,13 +61,12 @@ std::vector<bool> lightTracingMask(const Scene& scene, int width, int height)
         return material;
     };
     std::vector<bool> mask(size_t(width) * height);
-    const unsigned delta = LOBE_DELTA_REFLECTION | LOBE_DELTA_TRANSMISSION;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             bool ok = true;
             for (auto [dx, dy] : {std::pair{0.5, 0.5}, {0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}, {1.0, 1.0}}) {
                 int m = firstMaterial(x + dx, y + dy);
-                ok = ok && (m < 0 || (scene.materials[m].lobes & delta) == 0);
+                ok = ok && (m < 0 || (scene.materials[m].lobes & ~LOBE_DIFFUSE) == 0);
             }
             mask[size_t(y) * width + x] = ok;
         }
