@@ -292,9 +292,11 @@ void checkAgainstBruteForce(const Scene& scene, const RaySet& rays, const char* 
 }
 
 // Checks the wide tree from its root: every node reached once, every child
-// box inside its parent's, empty slots never hit, every BVH position in
-// exactly one leaf lane with the right vertices inside its box, and no
-// traversal needing more than the kernels' stack. Returns the failures.
+// box inside its parent's and exactly the box of the triangles below it (a
+// loose box is still correct, but rays that miss the triangles enter it),
+// empty slots never hit, every BVH position in exactly one leaf
+// lane with the right vertices inside its box, and no traversal needing more
+// than the kernels' stack. Returns the failures.
 int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v)
 {
     int failures = 0;
@@ -304,8 +306,9 @@ int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v)
     size_t triangles = v.size() / 3;
     std::vector<int> seen(triangles, 0), nodeSeen(bvh.nodes.size(), 0), packetSeen(bvh.packets.size(), 0);
     // Returns the stack entries a traversal from node n can hold (one visit
-    // pushes children - 1 more than it pops).
-    std::function<int(int)> visit = [&](int n) -> int {
+    // pushes children - 1 more than it pops); *below gets the box of the
+    // triangles under n.
+    std::function<int(int, Bounds*)> visit = [&](int n, Bounds* below) -> int {
         if (n < 0 || size_t(n) >= bvh.nodes.size()) { fail("node index " + std::to_string(n) + " out of range"); return 0; }
         if (nodeSeen[n]++) { fail("node " + std::to_string(n) + " reached twice"); return 0; }
         const BvhNode& node = bvh.nodes[n];
@@ -327,6 +330,15 @@ int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v)
                 return true;
             };
             int code = node.child[c];
+            Bounds under;
+            auto checkTight = [&] {
+                bool same = true;
+                for (int a = 0; a < 3; ++a) same = same && under.lo[a] == box.lo[a] && under.hi[a] == box.hi[a];
+                if (!same)
+                    fail("node " + std::to_string(n) + " slot " + std::to_string(c) +
+                         ": its box is not its triangles' box");
+                below->extend(under);
+            };
             if (code >= 0) {
                 if (size_t(code) < bvh.nodes.size()) {
                     const BvhNode& child = bvh.nodes[code];
@@ -336,7 +348,8 @@ int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v)
                               inside(Vec3(child.bounds[3][g], child.bounds[4][g], child.bounds[5][g]))))
                             fail("a child of node " + std::to_string(code) + " outside its parent's box");
                 }
-                deepest = std::max(deepest, visit(code));
+                deepest = std::max(deepest, visit(code, &under));
+                checkTight();
                 continue;
             }
             int first = (~code) >> 3, packets = ((~code) & 7) + 1;
@@ -354,14 +367,17 @@ int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v)
                         Vec3 vertex(packet.v[k][0][lane], packet.v[k][1][lane], packet.v[k][2][lane]);
                         if (!(vertex.x == v[3 * t + k].x && vertex.y == v[3 * t + k].y && vertex.z == v[3 * t + k].z)) fail("packet vertex differs from the scene's");
                         if (!inside(vertex)) fail("triangle " + std::to_string(t) + " outside its leaf's box");
+                        under.extend(vertex);
                     }
                 }
             }
+            checkTight();
         }
         if (children == 0) fail("node " + std::to_string(n) + " has no children");
         return children - 1 + deepest;
     };
-    int stack = visit(0);
+    Bounds all;
+    int stack = visit(0, &all);
     EXPECT_LE(stack + 1, BVH_STACK_SIZE) << "a traversal could overflow the stack";
     for (size_t n = 0; n < bvh.nodes.size(); ++n)
         if (!nodeSeen[n]) fail("node " + std::to_string(n) + " unreachable");
@@ -429,13 +445,16 @@ TEST(Bvh, StructureCheckDetectsBrokenTrees)
     const Bvh good = buildBvh(v);
     ASSERT_GT(good.packets.size(), 6u);
     EXPECT_EQ(silentStructureFailures(good, v), 0);
-    Bvh moved = good, duplicated = good, shrunk = good;
+    Bvh moved = good, duplicated = good, shrunk = good, loose = good;
     moved.packets[3].v[1][0][0] += 100.0f;
     duplicated.packets[5].triangle[0] = duplicated.packets[6].triangle[0];
     shrunk.nodes[0].bounds[3][0] = shrunk.nodes[0].bounds[0][0]; // child 0's box flat on x
+    int leafNode = int(loose.nodes.size()) - 1; // the last node: interior children only point forward
+    loose.nodes[leafNode].bounds[3][0] += 1e-3f; // child 0's box grown on x: still contains, no longer tight
     EXPECT_GT(silentStructureFailures(moved, v), 0);
     EXPECT_GT(silentStructureFailures(duplicated, v), 0);
     EXPECT_GT(silentStructureFailures(shrunk, v), 0);
+    EXPECT_GT(silentStructureFailures(loose, v), 0);
 }
 
 TEST(Bvh, CornellBoxMatchesBruteForce)
