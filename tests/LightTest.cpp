@@ -148,6 +148,38 @@ void expectNear(const Estimate& e, std::array<double, 3> expected, const char* w
 // table (enough bits for the largest index, in multiples of 4): without it
 // the kernels fall back to the 31 steps that cover any table. Enough steps is
 // what the sampling tests below check; this checks the renderer asks for them.
+// The light table lists emitters in the scene's triangle order, whatever
+// order the BVH stores the triangles in, so that which emitter a selection
+// number picks, and so an image at a given seed, does not change with the
+// tree's build. Two trees that differ only in that order (the second the
+// first reversed) must give the same lights, each naming its own BVH
+// position of the same scene triangle.
+TEST(Lights, TableFollowsTheSceneNotTheTree)
+{
+    Scene scene = lightScene(false);
+    for (int k = 0; k < 5; ++k) {
+        Material m = scene.materials[0];
+        m.emission[0] = float(k + 1);
+        scene.materials.push_back(m);
+        for (Vec3 v : {Vec3(float(k), 1, 0), Vec3(float(k), 1, 1), Vec3(float(k) + 1, 1, 0)}) scene.vertices.push_back(v);
+        scene.triangleMaterial.push_back(int(scene.materials.size()) - 1);
+    }
+    Bvh tree = buildBvh(scene.vertices), reversed = tree;
+    std::reverse(reversed.triangleOrder.begin(), reversed.triangleOrder.end());
+    LightTable a = buildLightTable(scene, tree), b = buildLightTable(scene, reversed);
+    ASSERT_EQ(a.lights.size(), 5u);
+    ASSERT_EQ(b.lights.size(), a.lights.size());
+    EXPECT_EQ(a.cdf, b.cdf);
+    for (size_t k = 0; k < a.lights.size(); ++k) {
+        SCOPED_TRACE(k);
+        EXPECT_EQ(a.lights[k].emission[0], float(k + 1)); // the scene's order
+        EXPECT_EQ(b.lights[k].emission[0], a.lights[k].emission[0]);
+        EXPECT_EQ(tree.triangleOrder[size_t(a.lights[k].triangle)], reversed.triangleOrder[size_t(b.lights[k].triangle)]);
+        EXPECT_EQ(a.triangleLight[size_t(a.lights[k].triangle)], int(k));
+        EXPECT_EQ(b.triangleLight[size_t(b.lights[k].triangle)], int(k));
+    }
+}
+
 TEST(Lights, RenderProgramsSearchTheirOwnTable)
 {
     SceneFeatures features;
