@@ -77,7 +77,7 @@ std::vector<bool> lightTracingMask(const Scene& scene, int width, int height)
 // 8×8-pixel block, means over 8 seeds agree within 5 standard errors
 // estimated from the seed-to-seed spread of each side (a Student t with 14
 // degrees of freedom; a false alarm ~2e-4 per block). lt is compared only
-// where it can render (lightTracingMask). The path tracer is the reference
+// where it renders fully and without heavy tails (lightTracingMask). The path tracer is the reference
 // only where it is unbiased and not heavy-tailed: with a delta light (point,
 // directional) it cannot sample light reflected or refracted by a specular
 // surface onto a diffuse one (it misses the caustics), and with the area
