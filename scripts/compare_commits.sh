@@ -55,9 +55,10 @@ fi
 for scene in $scenes; do
   for a in $algorithms; do
     common=(render "$scene" -a "$a" --width "$width" --height "$height" -d "$device" --max-path-length "$maxlen" -q)
-    # Warm both program caches first, so neither timing includes a kernel build.
-    "$old" "${common[@]}" -n 1 -o "$work/warm.exr"
-    "$new" "${common[@]}" -n 1 -o "$work/warm.exr"
+    # Warm both program caches first, so neither timing includes a kernel build:
+    # 4 iterations, so that they run on the pipelines a timed run uses (fewer run on one).
+    "$old" "${common[@]}" -n 4 -o "$work/warm.exr"
+    "$new" "${common[@]}" -n 4 -o "$work/warm.exr"
     before=() after=()
     for ((i = 0; i < repeats; ++i)); do
       "$old" "${common[@]}" -t "$seconds" -o "$work/old-t.exr" --stats "$work/old.json"

@@ -50,6 +50,13 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
     return options;
 }
 
+std::string Renderer::deviceOptions(const DeviceInfo& device)
+{
+    // kernels/core/queues.h: queue pushes by an atomic per item where nothing contends for the counters.
+    bool oneThread = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
+    return oneThread ? " -DPUSH_PER_ITEM" : "";
+}
+
 // The binary search of light selection as a fixed number of steps
 // (kernels/lights/lights.h): the bits of the largest light index, rounded up
 // to a multiple of 4, so that scenes whose light counts differ a little share
@@ -131,7 +138,8 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
 
     std::string source = expandKernelSources(findKernelDir(), kernelFiles(algorithm));
     build_ = buildProgram(device.context, device.info, source,
-                          programOptions(algorithm, scene.features(), lights_.info.lightCount, connectionQueue_));
+                          programOptions(algorithm, scene.features(), lights_.info.lightCount, connectionQueue_) +
+                              deviceOptions(device.info));
 
     // One fixed local size: PoCL compiles a work-group function per local
     // size, and local size 1 is several times slower there.

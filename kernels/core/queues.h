@@ -37,6 +37,13 @@ INLINE Lanes lanes(int x, int y, int z, int w)
 #define SERIAL_GROUP_NUMBERING 1
 #endif
 
+/* PUSH_PER_ITEM (set by the host for a CPU device of one compute unit, such
+ * as each of the two pipelines' sub-devices on a 2-core machine): a global
+ * atomic per item and no barrier. There the atomic costs less than the
+ * group's barriers and the values PoCL spills across them (2-core AMD EPYC,
+ * two pipelines: `pt` iterations +3-5 %, `ppm` +3-12 %, `shade_light` +8 %);
+ * on the whole device, where both threads push to the same counters, it made
+ * `pt` 10-20 % slower. */
 /* For each of up to four counters (lanes x, y, z, w of `counter`), the next
  * index of that counter for every work-item that `wants` one in that lane,
  * -1 for the others. Aggregated per work-group: one global atomic per counter
@@ -50,6 +57,12 @@ INLINE Lanes lanes(int x, int y, int z, int w)
  * (8 + local id; bit k: it wants lane k, then its four indices, a byte each). */
 INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants, __local int* scratch)
 {
+#ifdef PUSH_PER_ITEM
+    return lanes(wants.x ? atomic_inc(&counters[COUNTER_INDEX(counter.x)]) : -1,
+                 wants.y ? atomic_inc(&counters[COUNTER_INDEX(counter.y)]) : -1,
+                 wants.z ? atomic_inc(&counters[COUNTER_INDEX(counter.z)]) : -1,
+                 wants.w ? atomic_inc(&counters[COUNTER_INDEX(counter.w)]) : -1);
+#else
     Lanes index;
 #ifdef SERIAL_GROUP_NUMBERING
     int item = get_local_id(0);
@@ -96,6 +109,7 @@ INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants,
 #endif
     return lanes(wants.x ? scratch[4] + index.x : -1, wants.y ? scratch[5] + index.y : -1,
                  wants.z ? scratch[6] + index.z : -1, wants.w ? scratch[7] + index.w : -1);
+#endif
 }
 
 /* Appends `slot` to each queue of `queues` whose lane of `push` is set
@@ -119,6 +133,9 @@ INLINE void queue_push4(__global int* items, __global int* counters, int capacit
  * group_allocate4 (its rules apply), without its limit of 255 per group. */
 INLINE int group_allocate_n(__global int* counters, int counter, int n, __local int* scratch)
 {
+#ifdef PUSH_PER_ITEM
+    return n > 0 ? atomic_add(&counters[COUNTER_INDEX(counter)], n) : 0;
+#else
     int item = get_local_id(0);
 #ifdef SERIAL_GROUP_NUMBERING
     scratch[8 + item] = n;
@@ -144,6 +161,7 @@ INLINE int group_allocate_n(__global int* counters, int counter, int n, __local 
         scratch[4] = scratch[0] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter)], scratch[0]) : 0;
     barrier(CLK_LOCAL_MEM_FENCE);
     return scratch[4] + offset;
+#endif
 #endif
 }
 
