@@ -30,9 +30,10 @@ typedef struct Hit {
     float b1, b2; /* barycentric weights of vertices 1 and 2 */
 } Hit;
 
-/* Per-ray constants of the slab test. near[a] selects the child boxes' plane
- * the ray enters through on axis a (lower bound if the direction is
- * positive), far[a] the one it leaves through. */
+/* Per-ray constants of the slab test. near[a] is the offset, in floats into
+ * BvhNode.bounds, of the child boxes' plane the ray enters through on axis a
+ * (lower bound if the direction is positive), far[a] of the one it leaves
+ * through. */
 typedef struct BoxRay {
     float3 origin, invDir;
     int near[3], far[3];
@@ -44,33 +45,59 @@ INLINE BoxRay box_ray(Ray ray)
     r.origin = to_float3(ray.origin);
     r.invDir = 1.0f / to_float3(ray.direction);
     int3 negative = signbit(r.invDir);
-    r.near[0] = negative.x ? 3 : 0; r.far[0] = 3 - r.near[0];
-    r.near[1] = negative.y ? 4 : 1; r.far[1] = 5 - r.near[1];
-    r.near[2] = negative.z ? 5 : 2; r.far[2] = 7 - r.near[2];
+    r.near[0] = (negative.x ? 3 : 0) * BVH_WIDTH; r.far[0] = 3 * BVH_WIDTH - r.near[0];
+    r.near[1] = (negative.y ? 4 : 1) * BVH_WIDTH; r.far[1] = 5 * BVH_WIDTH - r.near[1];
+    r.near[2] = (negative.z ? 5 : 2) * BVH_WIDTH; r.far[2] = 7 * BVH_WIDTH - r.near[2];
     return r;
 }
+
+/* max(a, b) and min(a, b) for b never NaN, a NaN giving b: fmax and fmin
+ * there, but one instruction on x86 (maxps/minps return their second operand
+ * when either is NaN) where fmax/fmin take three. */
+INLINE floatw max_skipping_nan(floatw a, floatw b) { return select(b, a, a > b); }
+INLINE floatw min_skipping_nan(floatw a, floatw b) { return select(b, a, a < b); }
 
 /* Slab test of every child box: *enter and *leave get each child's entry
  * and exit distances; a child is hit where enter <= leave. invDir may hold
  * ±∞ for axis-parallel rays; where the origin then lies exactly on a slab
- * plane, 0·∞ = NaN stands for "inside the slab on this axis", and fmax/fmin,
- * which return the other operand for a NaN, skip it, so rays along box faces
- * and through edges are not culled. The exit distance is enlarged by
- * 1 + 2γ(3) (Ize, "Robust BVH Ray Traversal", JCGT 2013) so rounding never
- * culls a box the ray touches, which keeps the watertight triangle test
- * watertight through the tree. An empty slot (lo = +∞, hi = -∞) enters at
- * +∞ and leaves at -∞. */
+ * plane, 0·∞ = NaN stands for "inside the slab on this axis", which the
+ * maximum and minimum skip (each takes the plane's value, maybe NaN, first
+ * and the result so far, never NaN, second), so rays along box faces and
+ * through edges are not culled. The exit distance is enlarged by 1 + 2γ(3)
+ * (Ize, "Robust BVH Ray Traversal", JCGT 2013) so rounding never culls a box
+ * the ray touches, which keeps the watertight triangle test watertight
+ * through the tree. An empty slot (lo = +∞, hi = -∞) enters at +∞ and
+ * leaves at -∞. */
 INLINE void intersect_child_boxes(__global const BvhNode* node, const BoxRay* r, float tMax, floatw* enter,
                                   floatw* leave)
 {
-    floatw nx = (vloadw(0, node->bounds[r->near[0]]) - r->origin.x) * r->invDir.x;
-    floatw ny = (vloadw(0, node->bounds[r->near[1]]) - r->origin.y) * r->invDir.y;
-    floatw nz = (vloadw(0, node->bounds[r->near[2]]) - r->origin.z) * r->invDir.z;
-    floatw fx = (vloadw(0, node->bounds[r->far[0]]) - r->origin.x) * r->invDir.x;
-    floatw fy = (vloadw(0, node->bounds[r->far[1]]) - r->origin.y) * r->invDir.y;
-    floatw fz = (vloadw(0, node->bounds[r->far[2]]) - r->origin.z) * r->invDir.z;
-    *enter = fmax(fmax(nx, ny), fmax(nz, (floatw)(0.0f)));
-    *leave = fmin(fmin(fx, fy), fmin(fz, (floatw)(tMax))) * 1.0000004f;
+    __global const float* bounds = &node->bounds[0][0];
+    floatw nx = (vloadw(0, bounds + r->near[0]) - r->origin.x) * r->invDir.x;
+    floatw ny = (vloadw(0, bounds + r->near[1]) - r->origin.y) * r->invDir.y;
+    floatw nz = (vloadw(0, bounds + r->near[2]) - r->origin.z) * r->invDir.z;
+    floatw fx = (vloadw(0, bounds + r->far[0]) - r->origin.x) * r->invDir.x;
+    floatw fy = (vloadw(0, bounds + r->far[1]) - r->origin.y) * r->invDir.y;
+    floatw fz = (vloadw(0, bounds + r->far[2]) - r->origin.z) * r->invDir.z;
+    *enter = max_skipping_nan(nz, max_skipping_nan(ny, max_skipping_nan(nx, (floatw)(0.0f))));
+    *leave = min_skipping_nan(fz, min_skipping_nan(fy, min_skipping_nan(fx, (floatw)(tMax)))) * 1.0000004f;
+}
+
+/* Bit c set: child c is hit (enter <= leave). One movmskps on x86. */
+INLINE int child_hit_mask(floatw enter, floatw leave)
+{
+#if defined(__AVX__) && BVH_WIDTH == 8
+    return __builtin_ia32_movmskps256(as_float8(enter <= leave));
+#elif defined(__SSE__) && BVH_WIDTH == 4
+    return __builtin_ia32_movmskps(as_float4(enter <= leave));
+#else
+    float e[BVH_WIDTH], l[BVH_WIDTH];
+    vstorew(enter, 0, e);
+    vstorew(leave, 0, l);
+    int m = 0;
+    for (int c = 0; c < BVH_WIDTH; ++c)
+        m |= (e[c] <= l[c]) << c;
+    return m;
+#endif
 }
 
 /* A stack entry is skipped when popped if the ray, shortened since it was
@@ -87,7 +114,12 @@ INLINE bool trace_ray(__global const BvhNode* nodes, __global const TrianglePack
     ShearedRay sheared = shear_ray(ray);
     BoxRay boxRay = box_ray(ray);
     float tMax = ray.tMax;
+    /* Every field set, here and in the leaf loop's t, b1, b2: PoCL keeps a
+     * value that may be read unset in a per-work-item array in memory,
+     * loaded and stored again for every ray. */
     hit->triangle = -1;
+    hit->t = INFINITY;
+    hit->b1 = hit->b2 = 0.0f;
 
     /* Entries: a node index (>= 0) or a leaf (< 0, as in BvhNode.child),
      * with the distance at which the ray enters its box. */
@@ -108,13 +140,14 @@ INLINE bool trace_ray(__global const BvhNode* nodes, __global const TrianglePack
             float enter[BVH_WIDTH], leave[BVH_WIDTH];
             vstorew(enterw, 0, enter);
             vstorew(leavew, 0, leave);
+            int hitMask = child_hit_mask(enterw, leavew);
             int nearItem = 0;
             float nearKey = INFINITY;
             bool any = false;
             int base = stackSize;
 #pragma unroll
             for (int c = 0; c < BVH_WIDTH; ++c) {
-                if (!(enter[c] <= leave[c]))
+                if (!((hitMask >> c) & 1))
                     continue;
                 int child = node->child[c];
                 /* Any hit: leaves, the cheapest candidates, before interior
@@ -148,7 +181,7 @@ INLINE bool trace_ray(__global const BvhNode* nodes, __global const TrianglePack
             /* Leaf: its packets, in order. */
             int first = (~item) >> 3, end = first + ((~item) & 7) + 1;
             for (int p = first; p < end; ++p) {
-                float t, b1, b2;
+                float t = 0.0f, b1 = 0.0f, b2 = 0.0f;
                 int lane = intersect_packet(&sheared, &packets[p], tMax, 0, &t, &b1, &b2);
 #ifdef HAS_ALPHA_TEST
                 /* A hit the surface's alpha lets through: the packet's next nearest. */
