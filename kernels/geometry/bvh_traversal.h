@@ -100,6 +100,9 @@ INLINE int child_hit_mask(floatw enter, floatw leave)
 #endif
 }
 
+/* The index of the lowest set bit of m != 0. */
+INLINE int lowest_bit(int m) { return 31 - clz(m & -m); }
+
 /* A stack entry is skipped when popped if the ray, shortened since it was
  * pushed, now ends before the box: the same test as enter <= leave above. */
 INLINE bool box_still_ahead(float enter, float tMax) { return enter <= tMax * 1.0000004f; }
@@ -133,47 +136,42 @@ INLINE bool trace_ray(__global const BvhNode* nodes, __global const TrianglePack
              * registers (popping it back from the stack put a store and a
              * load on the path to the next node: 0-10 % slower); the others
              * are pushed by insertion into the top of the stack, farthest
-             * deepest. The order is that of pushing them all and popping. */
+             * deepest. The order is that of pushing them all and popping.
+             * The children hit come from one mask, lowest index first: no
+             * instruction for the children missed. */
             __global const BvhNode* node = &nodes[item];
             floatw enterw, leavew;
             intersect_child_boxes(node, &boxRay, tMax, &enterw, &leavew);
-            float enter[BVH_WIDTH], leave[BVH_WIDTH];
+            float enter[BVH_WIDTH];
             vstorew(enterw, 0, enter);
-            vstorew(leavew, 0, leave);
             int hitMask = child_hit_mask(enterw, leavew);
-            int nearItem = 0;
-            float nearKey = INFINITY;
-            bool any = false;
-            int base = stackSize;
-#pragma unroll
-            for (int c = 0; c < BVH_WIDTH; ++c) {
-                if (!((hitMask >> c) & 1))
-                    continue;
-                int child = node->child[c];
+            if (hitMask != 0) {
+                int c = lowest_bit(hitMask);
+                hitMask &= hitMask - 1;
+                int nearItem = node->child[c];
                 /* Any hit: leaves, the cheapest candidates, before interior
                  * nodes (the ray is never shortened, so no entry is culled). */
-                float key = anyHit && child < 0 ? -1.0f : enter[c];
-                if (!any) {
-                    any = true;
-                    nearItem = child;
-                    nearKey = key;
-                    continue;
+                float nearKey = anyHit && nearItem < 0 ? -1.0f : enter[c];
+                int base = stackSize;
+                while (hitMask != 0) {
+                    c = lowest_bit(hitMask);
+                    hitMask &= hitMask - 1;
+                    int child = node->child[c];
+                    float key = anyHit && child < 0 ? -1.0f : enter[c];
+                    /* Nearer: the previous nearest goes to the stack (on a tie
+                     * too: the later child first, as popping would). */
+                    if (key <= nearKey) {
+                        int t = nearItem; nearItem = child; child = t;
+                        float tk = nearKey; nearKey = key; key = tk;
+                    }
+                    int j = stackSize++;
+                    for (; j > base && stackEnter[j - 1] < key; --j) {
+                        stackItem[j] = stackItem[j - 1];
+                        stackEnter[j] = stackEnter[j - 1];
+                    }
+                    stackItem[j] = child;
+                    stackEnter[j] = key;
                 }
-                /* Nearer: the previous nearest goes to the stack (on a tie
-                 * too: the later child first, as popping would). */
-                if (key <= nearKey) {
-                    int t = nearItem; nearItem = child; child = t;
-                    float tk = nearKey; nearKey = key; key = tk;
-                }
-                int j = stackSize++;
-                for (; j > base && stackEnter[j - 1] < key; --j) {
-                    stackItem[j] = stackItem[j - 1];
-                    stackEnter[j] = stackEnter[j - 1];
-                }
-                stackItem[j] = child;
-                stackEnter[j] = key;
-            }
-            if (any) {
                 item = nearItem;
                 continue;
             }

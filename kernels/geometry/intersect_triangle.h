@@ -32,25 +32,27 @@ typedef struct ShearedRay {
     float sx, sy, sz;
 } ShearedRay;
 
-INLINE float component(vec3 v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
-
 INLINE ShearedRay shear_ray(Ray ray)
 {
     ShearedRay s;
     vec3 a = v3_abs(ray.direction);
-    s.kz = (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    /* Without branches: the axes are data, unpredictable for incoherent rays. */
+    s.kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
     s.kx = s.kz == 2 ? 0 : s.kz + 1;
     s.ky = s.kx == 2 ? 0 : s.kx + 1;
-    float dz = component(ray.direction, s.kz);
-    if (dz < 0.0f) { /* keep the winding: swap kx and ky */
-        int t = s.kx; s.kx = s.ky; s.ky = t;
-    }
-    s.sx = component(ray.direction, s.kx) / dz;
-    s.sy = component(ray.direction, s.ky) / dz;
+    float d[3] = {ray.direction.x, ray.direction.y, ray.direction.z};
+    float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+    float dz = d[s.kz];
+    int swap = dz < 0.0f; /* keep the winding: swap kx and ky */
+    int kx = swap ? s.ky : s.kx, ky = swap ? s.kx : s.ky;
+    s.kx = kx;
+    s.ky = ky;
+    s.sx = d[kx] / dz;
+    s.sy = d[ky] / dz;
     s.sz = 1.0f / dz;
-    s.ox = component(ray.origin, s.kx);
-    s.oy = component(ray.origin, s.ky);
-    s.oz = component(ray.origin, s.kz);
+    s.ox = o[kx];
+    s.oy = o[ky];
+    s.oz = o[s.kz];
     return s;
 }
 
@@ -66,10 +68,11 @@ INLINE bool any_lane(int4 m)
 #endif
 }
 
-/* max(a, b) of values that are never NaN (finite vertices): one maxps on
- * x86, where fmax, which must return the other operand for a NaN, takes
- * three instructions. */
+/* max(a, b) and min(a, b) of values that are never NaN (finite vertices):
+ * one maxps/minps on x86, where fmax and fmin, which must return the other
+ * operand for a NaN, take three instructions. */
 INLINE float4 max_of(float4 a, float4 b) { return select(b, a, a > b); }
+INLINE float4 min_of(float4 a, float4 b) { return select(b, a, a < b); }
 
 INLINE float float4_lane(float4 v, int lane)
 {
@@ -110,7 +113,9 @@ INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* 
     }
 #endif
     float4 det = U + V + W;
-    int4 hit = !((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) && det != 0.0f &&
+    /* Inside: no edge function negative, or none positive (U, V, W are never
+     * NaN for finite vertices). */
+    int4 hit = (min_of(U, min_of(V, W)) >= 0.0f || max_of(U, max_of(V, W)) <= 0.0f) && det != 0.0f &&
                vload4(0, p->triangle) >= 0;
 #ifdef HAS_ALPHA_TEST
     hit = hit && ((int4)(1, 2, 4, 8) & (int4)(excluded)) == (int4)(0); /* only alpha testing excludes lanes */
