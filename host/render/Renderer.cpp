@@ -52,7 +52,8 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
 
 std::string Renderer::deviceOptions(const DeviceInfo& device)
 {
-    // kernels/core/queues.h: queue pushes by an atomic per item where nothing contends for the counters.
+    // kernels/core/queues.h: queue pushes by an atomic per item where the device has one compute unit,
+    // there cheaper than the work-group's barriers (PoCL may still run its groups on other threads: atomics).
     bool oneThread = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
     return oneThread ? " -DPUSH_PER_ITEM" : "";
 }
