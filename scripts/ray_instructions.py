@@ -13,7 +13,6 @@ Usage: scripts/ray_instructions.py [--scene F] [--bench B ...] [--build DIR]
   B: ExtendIncoherent (default), ExtendCoherent, ConnectIncoherent, ConnectCoherent.
 Needs valgrind (Debian: apt-get install valgrind) and a build with Embree for
 the Embree column. WAVEVCM_KERNEL_DIR selects other kernels, as for wavevcm.
-The work-group size (64) is RENDER_GROUP_SIZE's.
 """
 import argparse
 import collections
@@ -25,7 +24,16 @@ import sys
 import tempfile
 
 RAYS = 65536
-GROUP_SIZE = 64
+
+
+def group_size():
+    """RENDER_GROUP_SIZE, the work-items per call of a work-group function."""
+    header = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "kernels", "interface", "queue_ids.h")
+    with open(header) as f:
+        m = re.search(r"#define RENDER_GROUP_SIZE (\d+)", f.read())
+    if not m:
+        sys.exit(f"ray_instructions: no RENDER_GROUP_SIZE in {header}")
+    return int(m.group(1))
 
 
 def parse(path):
@@ -97,7 +105,7 @@ def main():
         groups = sum(c for f, c in calls.items() if f.startswith(f"_pocl_kernel_{kernel}_workgroup"))
         if not ours or not groups:
             sys.exit(f"ray_instructions: no call of the {kernel} kernel was recorded")
-        perRay = ours / (groups * GROUP_SIZE)
+        perRay = ours / (groups * group_size())
         if calls[embree]:
             e = embreeIr / calls[embree]
             print(f"| {b} | {perRay:.0f} | {e:.0f} | {perRay / e:.2f} |")
