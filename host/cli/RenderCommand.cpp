@@ -422,7 +422,7 @@ int runRender(const RenderOptions& o)
         };
         // Each device's share (several with -d 0,2 or -d all), of this process (rank 0).
         stats["devices"] = nlohmann::json::array();
-        for (size_t i = 0; i < render.deviceCount(); ++i)
+        for (size_t i = 0; i < render.deviceCount(); ++i) {
             stats["devices"].push_back(
                 {{"device", chosen[i].name},
                  {"platform", chosen[i].platformName},
@@ -431,6 +431,10 @@ int runRender(const RenderOptions& o)
                  {"iterations", render.renderer(i).iterations()},
                  {"device_bytes", render.renderer(i).deviceBytes()},
                  {"samples_per_second", samplesPerIterationOfImage * render.renderer(i).iterations() / renderSeconds}});
+            if (o.profile) // the figures --profile prints, exact, for scripts (e.g. instructions per item)
+                for (const auto& [name, kernel] : render.renderer(i).kernelStats())
+                    stats["devices"].back()["kernels"][name] = {{"seconds", kernel.seconds}, {"items", kernel.items}};
+        }
         // Each rank's share of the job (one entry without mpirun).
         stats["rank_stats"] = nlohmann::json::array();
         for (int r = 0; r < ranks; ++r) {

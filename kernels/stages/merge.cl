@@ -38,17 +38,13 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
      * record. Both lie anywhere in the grid; hinted together, their cache
      * misses overlap instead of each bucket waiting for the one before. */
     for (int k = 0; k < 8; ++k)
-        if (buckets[k] >= 0)
-            PREFETCH(&bucketStarts[buckets[k]], 4); /* its end, the next int, shares the line 15 times in 16 */
+        PREFETCH(&bucketStarts[buckets[k]], 4); /* its end, the next int, shares the line 15 times in 16 */
     for (int k = 0; k < 8; ++k)
-        if (buckets[k] >= 0)
-            PREFETCH(&bucketVertices[bucketStarts[buckets[k]]], 16);
+        PREFETCH(&bucketVertices[bucketStarts[buckets[k]]], 16);
     int depth = hit_depth(pathDepth, slot);
 
     vec3 sum = v3s(0.0f);
     for (int k = 0; k < 8; ++k) {
-        if (buckets[k] < 0)
-            continue;
         int end = bucketStarts[buckets[k] + 1];
         for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
             __global const MergeVertex* lv = &bucketVertices[j];

@@ -29,22 +29,33 @@ INLINE uint grid_bucket(int3 cell, uint cellCount)
     return (h * 2654435769u) >> (clz(cellCount) + 4) << 3 | inBlock;
 }
 
-/* The buckets of the 2×2×2 cells nearest x, with duplicates (two cells
- * hashing to one bucket) replaced by -1 so no vertex is visited twice. */
+/* The buckets of the 2×2×2 cells nearest x: cell c = floor(x / cellSize) and
+ * its neighbour n = c ± 1 on each axis, toward x's nearer side, bucket k
+ * taking axis a's coordinate from n where bit a of k is set (the order of
+ * the loop merge.cl walks). The eight buckets are always distinct: two of
+ * the cells differ by 1 on some axis, so their parities, the bucket's low
+ * three bits, differ there, whatever their blocks hash to. The block hash
+ * is a XOR of one term per axis, so it takes six products, not 24. */
 INLINE void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buckets[8])
 {
     float3 scaled = x / cellSize;
     float3 base = floor(scaled);
-    int3 c = (int3)((int)base.x, (int)base.y, (int)base.z);
-    float3 frac = scaled - base;
-    int3 o = (int3)(frac.x < 0.5f ? -1 : 1, frac.y < 0.5f ? -1 : 1, frac.z < 0.5f ? -1 : 1);
-    for (int i = 0; i < 8; ++i) {
-        int3 cell = c + (int3)((i & 1) ? o.x : 0, (i & 2) ? o.y : 0, (i & 4) ? o.z : 0);
-        int b = (int)grid_bucket(cell, cellCount);
-        for (int j = 0; j < i; ++j)
-            if (buckets[j] == b)
-                b = -1;
-        buckets[i] = b;
+    int cx = (int)base.x, cy = (int)base.y, cz = (int)base.z;
+    int nx = cx + (scaled.x - base.x < 0.5f ? -1 : 1);
+    int ny = cy + (scaled.y - base.y < 0.5f ? -1 : 1);
+    int nz = cz + (scaled.z - base.z < 0.5f ? -1 : 1);
+    /* grid_bucket's terms, per axis, for c (0) and n (1). */
+    uint hx0 = (uint)(cx >> 1) * 73856093u, hx1 = (uint)(nx >> 1) * 73856093u;
+    uint hy0 = (uint)(cy >> 1) * 19349663u, hy1 = (uint)(ny >> 1) * 19349663u;
+    uint hz0 = (uint)(cz >> 1) * 83492791u, hz1 = (uint)(nz >> 1) * 83492791u;
+    uint px0 = (uint)(cx & 1), px1 = (uint)(nx & 1);
+    uint py0 = (uint)(cy & 1) << 1, py1 = (uint)(ny & 1) << 1;
+    uint pz0 = (uint)(cz & 1) << 2, pz1 = (uint)(nz & 1) << 2;
+    uint shift = clz(cellCount) + 4;
+    for (int k = 0; k < 8; ++k) {
+        uint h = ((k & 1) ? hx1 : hx0) ^ ((k & 2) ? hy1 : hy0) ^ ((k & 4) ? hz1 : hz0);
+        uint inBlock = ((k & 1) ? px1 : px0) | ((k & 2) ? py1 : py0) | ((k & 4) ? pz1 : pz0);
+        buckets[k] = (int)((h * 2654435769u) >> shift << 3 | inBlock);
     }
 }
 

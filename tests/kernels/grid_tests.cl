@@ -18,8 +18,6 @@ __kernel void grid_query(__global const LightVertex* vertices, __global const in
     int n = 0;
     long sum = 0;
     for (int k = 0; k < 8; ++k) {
-        if (b[k] < 0)
-            continue;
         for (int j = bucketStarts[b[k]]; j < bucketStarts[b[k] + 1]; ++j) {
             int v = bucketVertices[j].pathLength; /* the test gives each vertex its index there */
             float3 d = vload3(0, bucketVertices[j].position) - x;
