@@ -33,17 +33,44 @@ INLINE vec3 to_world(const Frame* f, vec3 v)
               v.x * f->s.z + v.y * f->t.z + v.z * f->n.z);
 }
 
-/* Concentric square-to-disk map (Shirley & Chiu 1997): low distortion. */
+/* sin(πx) and cos(πx) for |x| <= 1/4: minimax polynomials in φ = πx on
+ * [-π/4, π/4] (Cephes's sinf and cosf coefficients), within about an ulp;
+ * the library's sinpi and cospi reduce any argument and cost several times
+ * as many instructions. */
+INLINE void sin_cos_pi_quarter(float x, float* s, float* c)
+{
+    float p = PI_F * x, z = p * p;
+    *s = p + p * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
+    *c = 1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
+}
+
+/* sin(πx) and cos(πx) for x of moderate size (the sampling angles, in
+ * units of π): x = q/2 + r with q the nearest integer to 2x, so |r| <= 1/4
+ * (r is exact), then q quarter turns: (s, c) -> (c, -s) per turn. */
+INLINE void sin_cos_pi(float x, float* s, float* c)
+{
+    float q = rint(2.0f * x);
+    float sr, cr;
+    sin_cos_pi_quarter(x - 0.5f * q, &sr, &cr);
+    int k = (int)q & 3;
+    float sq = (k & 1) ? cr : sr, cq = (k & 1) ? sr : cr;
+    *s = (k & 2) ? -sq : sq;
+    *c = ((k + 1) & 2) ? -cq : cq;
+}
+
+/* Concentric square-to-disk map (Shirley & Chiu 1997): low distortion. The
+ * angle is (π/4)(oy/ox) on the wedges where |x| is larger, π/2 - (π/4)(ox/oy)
+ * on the others, whose sine and cosine are the cosine and sine of
+ * (π/4)(ox/oy): one quarter-range pair either way. */
 INLINE vec2 sample_disk(float u1, float u2)
 {
     float ox = 2.0f * u1 - 1.0f, oy = 2.0f * u2 - 1.0f;
     bool xMajor = fabs(ox) > fabs(oy);
     float r = xMajor ? ox : oy;
-    /* the angle in units of π: sinpi/cospi need no argument reduction */
-    float theta = xMajor ? 0.25f * (oy / ox) : 0.5f - 0.25f * (ox / oy);
-    if (ox == 0.0f && oy == 0.0f)
-        r = theta = 0.0f;
-    return v2(r * cospi(theta), r * sinpi(theta));
+    float t = ox == 0.0f && oy == 0.0f ? 0.0f : 0.25f * (xMajor ? oy / ox : ox / oy);
+    float s, c;
+    sin_cos_pi_quarter(t, &s, &c);
+    return xMajor ? v2(r * c, r * s) : v2(r * s, r * c);
 }
 
 /* Cosine-weighted hemisphere around +z; pdf = cos θ / π. */
@@ -58,8 +85,9 @@ INLINE vec3 sample_uniform_sphere(float u1, float u2)
 {
     float z = 1.0f - 2.0f * u1;
     float r = sqrt(fmax(0.0f, 1.0f - z * z));
-    float phi = 2.0f * u2; /* in units of π */
-    return v3(r * cospi(phi), r * sinpi(phi), z);
+    float s, c;
+    sin_cos_pi(2.0f * u2, &s, &c); /* φ = 2π u2 */
+    return v3(r * c, r * s, z);
 }
 
 /* Uniform cone of directions around +z with cos θ ≥ cosMax; pdf = 1 / (2π(1 − cosMax)). */
@@ -67,8 +95,9 @@ INLINE vec3 sample_uniform_cone(float u1, float u2, float cosMax)
 {
     float z = 1.0f - u1 * (1.0f - cosMax);
     float r = sqrt(fmax(0.0f, 1.0f - z * z));
-    float phi = 2.0f * u2; /* in units of π */
-    return v3(r * cospi(phi), r * sinpi(phi), z);
+    float s, c;
+    sin_cos_pi(2.0f * u2, &s, &c);
+    return v3(r * c, r * s, z);
 }
 
 /* Uniform point on a triangle as barycentrics (b1, b2) (Heitz's "low

@@ -87,9 +87,10 @@ INLINE bool env_sample(const Environment* env, __constant const SceneInfo* scene
     int y = sample_cdf(env->marginalCdf, h, u1, &fy);
     int x = sample_cdf(env->conditionalCdf + y * (w + 1), w, u2, &fx);
     float v = ((float)y + fy) / (float)h, u = ((float)x + fx) / (float)w;
-    float sinTheta = sinpi(v), cosTheta = cospi(v);
-    float phi = 2.0f * (u + scene->envRotation - 0.5f); /* in units of π */
-    *d = v3(sinTheta * sinpi(phi), cosTheta, -sinTheta * cospi(phi));
+    float sinTheta, cosTheta, sinPhi, cosPhi;
+    sin_cos_pi(v, &sinTheta, &cosTheta);
+    sin_cos_pi(2.0f * (u + scene->envRotation - 0.5f), &sinPhi, &cosPhi); /* φ in units of π */
+    *d = v3(sinTheta * sinPhi, cosTheta, -sinTheta * cosPhi);
     int texel = y * w + x;
     *radiance = load_vec3(env->radiance, texel);
     *pdfW = env_texel_pdf(env, scene, texel, sinTheta);

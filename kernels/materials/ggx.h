@@ -47,8 +47,9 @@ INLINE vec3 ggx_sample_visible(vec3 wo, float alpha, float u1, float u2)
     float inv = rsqrt(lensq);
     vec3 t1 = lensq > 0.0f ? v3(-vh.y * inv, vh.x * inv, 0.0f) : v3(1.0f, 0.0f, 0.0f);
     vec3 t2 = v3_cross(vh, t1);
-    float r = sqrt(u1), phi = 2.0f * u2; /* in units of π */
-    float p1 = r * cospi(phi), p2 = r * sinpi(phi);
+    float r = sqrt(u1), sinPhi, cosPhi;
+    sin_cos_pi(2.0f * u2, &sinPhi, &cosPhi); /* φ = 2π u2 */
+    float p1 = r * cosPhi, p2 = r * sinPhi;
     float s = 0.5f * (1.0f + vh.z);
     p2 = (1.0f - s) * sqrt(fmax(0.0f, 1.0f - p1 * p1)) + s * p2;
     vec3 nh = v3_add(v3_add(v3_scale(t1, p1), v3_scale(t2, p2)), v3_scale(vh, sqrt(fmax(0.0f, 1.0f - p1 * p1 - p2 * p2))));
