@@ -85,23 +85,12 @@ uint32_t stratifiedBounces(DeviceContext& device, const cl::Program& program)
     return n;
 }
 
-// Runs `check(device, program)` on every device: the draws are integer
-// arithmetic, the same on all of them.
-template <typename Check> void onEveryDevice(Check check)
-{
-    for (const DeviceInfo& info : test::devicesUnderTest()) {
-        SCOPED_TRACE(info.name + " (" + info.platformName + ")");
-        DeviceContext device(info);
-        check(device, test::buildTestProgram(device, {test::testKernel("sampler_tests.cl")}));
-    }
-}
-
 // At each stratified bounce, every run of 2^m iterations from 0 (and the
 // second such run) is a net in (y, z) and in (x, w), for several samples and
 // blocks; 24-bit floats resolve cells down to 2^-12 × 2^-12.
 TEST(Sampler, StratifiedAtEveryPowerOfTwo)
 {
-    onEveryDevice([](DeviceContext& device, const cl::Program& program) {
+    test::onEveryDevice("sampler_tests.cl", [](DeviceContext& device, const cl::Program& program) {
     uint32_t stratified = stratifiedBounces(device, program);
     ASSERT_GE(stratified, 2u) << "the camera or light sample and the first scattering are stratified";
     for (uint32_t bounce = 0; bounce < stratified; ++bounce)
@@ -124,7 +113,7 @@ TEST(Sampler, StratifiedAtEveryPowerOfTwo)
 // net none.
 TEST(Sampler, IndependentPastTheStratifiedBounces)
 {
-    onEveryDevice([](DeviceContext& device, const cl::Program& program) {
+    test::onEveryDevice("sampler_tests.cl", [](DeviceContext& device, const cl::Program& program) {
     uint32_t stratified = stratifiedBounces(device, program);
     for (uint32_t bounce : {stratified, stratified + 1, 9u}) {
         Request r{7, 0, 1, 4242, 0, bounce, 1}, next = r;
@@ -153,7 +142,7 @@ TEST(Sampler, IndependentPastTheStratifiedBounces)
 // stratified bounce and a deeper one.
 TEST(Sampler, UniformAcrossSamples)
 {
-    onEveryDevice([](DeviceContext& device, const cl::Program& program) {
+    test::onEveryDevice("sampler_tests.cl", [](DeviceContext& device, const cl::Program& program) {
     for (uint32_t bounce : {1u, 2u})
     for (uint32_t iteration : {0u, 5u, 1000u}) {
         Request r{7, iteration, 0, 0, 1, bounce, 0};
@@ -171,7 +160,7 @@ TEST(Sampler, UniformAcrossSamples)
 // 256 cells here.
 TEST(Sampler, PairsBlocksAndBouncesIndependent)
 {
-    onEveryDevice([](DeviceContext& device, const cl::Program& program) {
+    test::onEveryDevice("sampler_tests.cl", [](DeviceContext& device, const cl::Program& program) {
     const int n = 4096;
     Request base{7, 0, 1, 4242, 0, 1, 0};
     Request otherBlock = base, otherBounce = base, otherSeed = base;

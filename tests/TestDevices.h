@@ -5,6 +5,8 @@
 #include "cl/Program.h"
 #include "scene/Scene.h"
 
+#include <gtest/gtest.h>
+
 #include <string>
 #include <vector>
 
@@ -25,6 +27,17 @@ Scene sceneFromTriangles(std::vector<Vec3> vertices);
 
 // The Cornell box from scenes/.
 std::string cornellBoxPath();
+
+// Runs check(device, program) on every device under test with the program of
+// test kernel file `kernelFile`, under a trace naming the device.
+template <typename Check> void onEveryDevice(const std::string& kernelFile, Check check)
+{
+    for (const DeviceInfo& info : devicesUnderTest()) {
+        SCOPED_TRACE(info.name + " (" + info.platformName + ")");
+        DeviceContext device(info);
+        check(device, buildTestProgram(device, {testKernel(kernelFile)}));
+    }
+}
 
 // Rounds n up to a multiple of 64, the local size the tests launch with.
 inline size_t launchSize(size_t n) { return (n + 63) / 64 * 64; }

@@ -34,15 +34,6 @@ std::vector<Float2> run(DeviceContext& device, const cl::Program& program, const
     return result;
 }
 
-template <typename Check> void onEveryDevice(Check check)
-{
-    for (const DeviceInfo& info : test::devicesUnderTest()) {
-        SCOPED_TRACE(info.name + " (" + info.platformName + ")");
-        DeviceContext device(info);
-        check(device, test::buildTestProgram(device, {test::testKernel("warp_tests.cl")}));
-    }
-}
-
 // Every multiple of 1/64 in [-4, 4] (the quadrant and octant boundaries
 // among them) and random arguments in [-3, 3]: sine and cosine within 4e-7
 // of sin(πx) and cos(πx), about three ulps of 1.
@@ -53,7 +44,7 @@ TEST(Warps, SinCosPiMatchesLibm)
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-3, 3);
     for (int i = 0; i < 4096; ++i) x.push_back(u(rng));
-    onEveryDevice([&](DeviceContext& device, const cl::Program& program) {
+    test::onEveryDevice("warp_tests.cl", [&](DeviceContext& device, const cl::Program& program) {
         std::vector<Float2> sc = run(device, program, "sin_cos_pi_values", x);
         double worst = 0;
         for (size_t i = 0; i < x.size(); ++i) {
@@ -90,7 +81,7 @@ TEST(Warps, ConcentricDiskMatchesReference)
     std::vector<Float2> u;
     for (int i = 0; i <= 64; ++i)
         for (int j = 0; j <= 64; ++j) u.push_back({float(i) / 64, float(j) / 64});
-    onEveryDevice([&](DeviceContext& device, const cl::Program& program) {
+    test::onEveryDevice("warp_tests.cl", [&](DeviceContext& device, const cl::Program& program) {
         std::vector<Float2> d = run(device, program, "disk_points", u);
         for (size_t i = 0; i < u.size(); ++i) {
             Float2 ref = diskReference(u[i][0], u[i][1]);
