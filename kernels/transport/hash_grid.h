@@ -14,6 +14,11 @@ INLINE int3 grid_cell(float3 p, float cellSize)
     return (int3)((int)c.x, (int)c.y, (int)c.z);
 }
 
+/* Teschner et al.'s primes, one per axis. */
+#define GRID_PRIME_X 73856093u
+#define GRID_PRIME_Y 19349663u
+#define GRID_PRIME_Z 83492791u
+
 /* Cells are hashed in blocks of 2×2×2, whose eight cells take eight
  * consecutive buckets: the bucket starts and the records of the 2×2×2 cells
  * a query visits then lie in the query's 1-8 blocks (3.4 on average) instead
@@ -21,12 +26,24 @@ INLINE int3 grid_cell(float3 p, float cellSize)
  * al.'s spatial hash (SmallVCM's), folded to the table's 2^k / 8 blocks by a
  * multiplicative (Fibonacci) hash, whose top bits mix all of the hash's bits
  * where `% cellCount` costs an integer division. */
+
+/* One axis's term of a block's hash (the block's coordinate is
+ * floor(cell / 2), an arithmetic shift), and the cell's bit of its place in
+ * the block. */
+INLINE uint grid_axis_hash(int coordinate, uint prime) { return (uint)(coordinate >> 1) * prime; }
+INLINE uint grid_axis_bit(int coordinate, int axis) { return (uint)(coordinate & 1) << axis; }
+
+/* The bucket of the cell at place inBlock of the block whose hash is h. */
+INLINE uint grid_fold(uint h, uint inBlock, uint cellCount)
+{
+    return (h * 2654435769u) >> (clz(cellCount) + 4) << 3 | inBlock;
+}
+
 INLINE uint grid_bucket(int3 cell, uint cellCount)
 {
-    int3 block = cell >> 1; /* arithmetic shift: floor(cell / 2) */
-    uint h = ((uint)block.x * 73856093u) ^ ((uint)block.y * 19349663u) ^ ((uint)block.z * 83492791u);
-    uint inBlock = (uint)(cell.x & 1) | (uint)(cell.y & 1) << 1 | (uint)(cell.z & 1) << 2;
-    return (h * 2654435769u) >> (clz(cellCount) + 4) << 3 | inBlock;
+    uint h = grid_axis_hash(cell.x, GRID_PRIME_X) ^ grid_axis_hash(cell.y, GRID_PRIME_Y) ^
+             grid_axis_hash(cell.z, GRID_PRIME_Z);
+    return grid_fold(h, grid_axis_bit(cell.x, 0) | grid_axis_bit(cell.y, 1) | grid_axis_bit(cell.z, 2), cellCount);
 }
 
 /* The buckets of the 2×2×2 cells nearest x: cell c = floor(x / cellSize) and
@@ -45,17 +62,16 @@ INLINE void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buc
     int ny = cy + (scaled.y - base.y < 0.5f ? -1 : 1);
     int nz = cz + (scaled.z - base.z < 0.5f ? -1 : 1);
     /* grid_bucket's terms, per axis, for c (0) and n (1). */
-    uint hx0 = (uint)(cx >> 1) * 73856093u, hx1 = (uint)(nx >> 1) * 73856093u;
-    uint hy0 = (uint)(cy >> 1) * 19349663u, hy1 = (uint)(ny >> 1) * 19349663u;
-    uint hz0 = (uint)(cz >> 1) * 83492791u, hz1 = (uint)(nz >> 1) * 83492791u;
-    uint px0 = (uint)(cx & 1), px1 = (uint)(nx & 1);
-    uint py0 = (uint)(cy & 1) << 1, py1 = (uint)(ny & 1) << 1;
-    uint pz0 = (uint)(cz & 1) << 2, pz1 = (uint)(nz & 1) << 2;
-    uint shift = clz(cellCount) + 4;
+    uint hx0 = grid_axis_hash(cx, GRID_PRIME_X), hx1 = grid_axis_hash(nx, GRID_PRIME_X);
+    uint hy0 = grid_axis_hash(cy, GRID_PRIME_Y), hy1 = grid_axis_hash(ny, GRID_PRIME_Y);
+    uint hz0 = grid_axis_hash(cz, GRID_PRIME_Z), hz1 = grid_axis_hash(nz, GRID_PRIME_Z);
+    uint px0 = grid_axis_bit(cx, 0), px1 = grid_axis_bit(nx, 0);
+    uint py0 = grid_axis_bit(cy, 1), py1 = grid_axis_bit(ny, 1);
+    uint pz0 = grid_axis_bit(cz, 2), pz1 = grid_axis_bit(nz, 2);
     for (int k = 0; k < 8; ++k) {
         uint h = ((k & 1) ? hx1 : hx0) ^ ((k & 2) ? hy1 : hy0) ^ ((k & 4) ? hz1 : hz0);
         uint inBlock = ((k & 1) ? px1 : px0) | ((k & 2) ? py1 : py0) | ((k & 4) ? pz1 : pz0);
-        buckets[k] = (int)((h * 2654435769u) >> shift << 3 | inBlock);
+        buckets[k] = (int)grid_fold(h, inBlock, cellCount);
     }
 }
 
