@@ -38,7 +38,12 @@ static void checkAllocation(const DeviceContext& device, size_t bytes, const std
 // pairs): wavevcm_bench's incoherent extend rays 0.69x -> 0.745x Embree's
 // rate (medians), any-hit 0.74x -> 0.78x; `pt` 1.90-2.11 -> 2.13-2.15 it/s.
 // The renderer's own buffers (path state, light vertices) gained nothing so
-// (`vcm` on the 130K-triangle box) and keep the driver's pages. Advice only:
+// (`vcm` on the 130K-triangle box) and keep the driver's pages. Unlike the
+// BVH build's arrays (allocateLargeArray, Bvh.cpp), which skip the advice
+// where a fault may stop to compact memory (defrag "madvise"), uploads take
+// it there too: that cost is paid once per render, at the copy, and the
+// 1M-triangle scene's setup measured the same with and without (2.7-4.4 s,
+// dominated by loading the file). Advice only:
 // where the mapping is a copy, or the pages are already touched, nothing
 // changes but the cost of the copy.
 constexpr size_t kHugePage = size_t(2) << 20;
