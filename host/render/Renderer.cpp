@@ -246,7 +246,7 @@ size_t Renderer::deviceBytes() const
            (grid_ ? vertexCapacity_ * HashGrid::kBytesPerVertex : 0) + connectionCapacity_ * kBytesPerConnection;
 }
 
-// Makes room for at least `vertices` light vertices (80 bytes each), within
+// Makes room for at least `vertices` light vertices (128 bytes each), within
 // the device's limits, and as many entries of the connection queue (a round
 // queues at most one connection per stored vertex: a camera path connects
 // only to its own light path, once per round); the kernels that write and

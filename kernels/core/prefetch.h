@@ -12,7 +12,7 @@
 #if (defined(__x86_64__) || defined(__i386__)) && !defined(NO_PREFETCH)
 #define HAS_PREFETCH 1
 /* The first and the last cache line of [p, p + bytes): all of it for what
- * spans at most two 64-byte lines (an 80-byte LightVertex or a triangle's
+ * spans at most two 64-byte lines (a 128-byte LightVertex or a triangle's
  * 48 bytes of vertices at 16-byte alignment). An element of at most 16
  * bytes, aligned to its size, lies in one line: one hint. (With a second
  * hint to the same line, 36 % of `pt`'s `shade` samples on the AMD EPYC

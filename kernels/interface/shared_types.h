@@ -141,8 +141,12 @@ typedef struct Light {
 } Light;
 
 /* A vertex of a light sub-path, stored for vertex connection (and merging):
- * everything a camera vertex needs to connect to it, 80 bytes. Vertices of
- * one light path form a list from its last vertex back (prev). */
+ * everything a camera vertex needs to connect to it, 128 bytes. Its surface
+ * (the SurfaceHit that shade_light built: error bound, normals, side) is
+ * stored, not rebuilt from the triangle per connection: rebuilding took
+ * about a tenth of connect_vertices (README, "Performance"). The triangle
+ * and barycentrics remain for its material and textures. Vertices of one
+ * light path form a list from its last vertex back (prev). */
 typedef struct LightVertex {
     float position[3];
     int prev;            /* previous stored vertex of the same light path, -1 at its first */
@@ -150,14 +154,18 @@ typedef struct LightVertex {
     float dVCM;
     float toLight[3];    /* unit direction back along the light path */
     float dVC;
+    float positionError[3]; /* SurfaceHit.pError */
     float dVM;
+    float geometricNormal[3]; /* SurfaceHit.ngF: on toLight's side */
     int pathLength;      /* segments from the light to this vertex */
-    int triangle;        /* BVH-ordered: material, normals */
+    float shadingNormal[3]; /* SurfaceHit.nsF */
+    int triangle;        /* BVH-ordered: material, textures */
     float b1;            /* barycentrics of the hit */
     float b2;
     float continuation;  /* Russian roulette survival probability of its BSDF (merging's reverse pdf) */
     int number;          /* of its light path's stored vertices, counting from 1 at the light's end */
-    float pad;
+    int frontSide;       /* SurfaceHit.frontSide */
+    int pad[3];
 } LightVertex;
 
 /* A light vertex as vertex merging reads it (merge.cl), copied by the hash

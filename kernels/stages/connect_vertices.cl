@@ -25,6 +25,7 @@
 #include "lights/lights.h"
 #include "materials/surface_bsdf.h"
 #include "transport/camera_vertex.h"
+#include "transport/light_vertex.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
@@ -37,7 +38,8 @@ INLINE int light_path_ahead(const RenderBuffers* b, const LaunchParams* params, 
 }
 
 /* Hints for the connections ahead: the last light vertex of entry i + D's
- * light path, and the triangle of entry i + D/2's, which that hint brought. */
+ * light path, and the material index of entry i + D/2's, whose triangle
+ * that hint brought. */
 INLINE void prefetch_light_paths(const RenderBuffers* b, const LaunchParams* params, int i)
 {
 #ifdef HAS_PREFETCH
@@ -46,7 +48,7 @@ INLINE void prefetch_light_paths(const RenderBuffers* b, const LaunchParams* par
         PREFETCH(&b->lightVertices[v], sizeof(LightVertex));
     v = light_path_ahead(b, params, i + PREFETCH_DISTANCE / 2);
     if (v >= 0)
-        prefetch_triangle(b, b->lightVertices[v].triangle);
+        PREFETCH(&b->triMaterials[b->lightVertices[v].triangle], 4);
 #endif
 }
 
@@ -58,7 +60,7 @@ INLINE bool connect_to_light_vertex(const RenderBuffers* b, const LaunchParams* 
 {
     vec3 toLight = load3(lv->toLight);
     vec2 lightBary = v2(lv->b1, lv->b2);
-    SurfaceHit lightHit = scene_surface_hit(b, lv->triangle, lightBary, toLight);
+    SurfaceHit lightHit = light_vertex_surface(lv);
     if (!connection_resolved(cv->hit.p, cv->hit.pError, cv->hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF))
         return false;
     vec3 d = v3_sub(lightHit.p, cv->hit.p);

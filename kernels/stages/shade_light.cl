@@ -22,6 +22,7 @@
 #include "materials/bsdf.h"
 #include "materials/surface_bsdf.h"
 #include "transport/continue_path.h"
+#include "transport/light_vertex.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
@@ -29,8 +30,26 @@
  * returned from a function. */
 typedef struct LightHitResult {
     int alive, shadowRay, storeVertex;
-    LightVertex vertex;
+    LightVertex vertex; /* to store after the group's reservation (not with PUSH_PER_ITEM) */
 } LightHitResult;
+
+/* Stores vertex v of the light path in `slot` at place `at` of the light
+ * vertex buffer, linked after the path's last one. The counter keeps
+ * counting past the buffer's end, so the host sees how many vertices were
+ * wanted and can retry with room for them; past it nothing is stored. */
+INLINE void append_light_vertex(const RenderBuffers* b, const LaunchParams* params, int slot, int at,
+                                LightVertex* v)
+{
+    if (at >= params->vertexCapacity)
+        return;
+    v->prev = b->pathLastVertex[slot];
+    int flags = b->pathFlags[slot] + PATH_STORED_ONE;
+    b->pathFlags[slot] = flags;
+    v->number = flags / PATH_STORED_ONE;
+    b->lightVertices[at] = *v;
+    b->pathLastVertex[slot] = at;
+    b->lightPathHead[b->pathPixel[slot] - params->firstLightPath] = at;
+}
 
 INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams* params, int slot, int* rejected)
 {
@@ -58,19 +77,27 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
 
     if (bsdf_has_nondelta(&bsdf)) {
         if (params->storeVertices) {
+            LightVertex v;
+            store_light_vertex_surface(&v, &hit);
+            store3(v.throughput, beta);
+            store3(v.toLight, wLight);
+            v.dVCM = mis.dVCM;
+            v.dVC = mis.dVC;
+            v.dVM = mis.dVM;
+            v.pathLength = depth;
+            v.triangle = tri;
+            v.b1 = bary.x;
+            v.b2 = bary.y;
+            v.continuation = cont;
+#ifdef PUSH_PER_ITEM
+            /* Its place now, as group_allocate4 would give it (an atomic per
+             * item): stored here, it is not kept live through the rest. */
+            append_light_vertex(b, params, slot,
+                                atomic_inc(&b->queueCounters[COUNTER_INDEX(COUNTER_LIGHT_VERTICES)]), &v);
+#else
             r.storeVertex = 1;
-            LightVertex* v = &r.vertex;
-            store3(v->position, hit.p);
-            store3(v->throughput, beta);
-            store3(v->toLight, wLight);
-            v->dVCM = mis.dVCM;
-            v->dVC = mis.dVC;
-            v->dVM = mis.dVM;
-            v->pathLength = depth;
-            v->triangle = tri;
-            v->b1 = bary.x;
-            v->b2 = bary.y;
-            v->continuation = cont;
+            r.vertex = v;
+#endif
         }
         if (lightPath >= params->firstSplatPath && path_fits(depth + 1, params->maxPathLength)) {
             vec3 cameraPosition = load3c(b->camera->position);
@@ -127,9 +154,7 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
     int rejected = 0;
     if (slot >= 0)
         r = shade_light_hit(&b, &params, slot, &rejected);
-    /* One reservation for the three queues and the light vertices. The
-     * vertex counter keeps counting past the buffer's end, so the host sees
-     * how many vertices were wanted and can retry with room for them. */
+    /* One reservation for the three queues and the light vertices. */
     Lanes queues = lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, COUNTER_LIGHT_VERTICES);
     Lanes at = group_allocate4(queueCounters, queues,
                               lanes(r.shadowRay, r.alive, slot >= 0 && !r.alive, r.storeVertex), scratch);
@@ -139,14 +164,7 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
         queueItems[queues.y * params.capacity + at.y] = slot;
     if (at.z >= 0)
         queueItems[queues.z * params.capacity + at.z] = slot;
-    if (at.w >= 0 && at.w < params.vertexCapacity) {
-        r.vertex.prev = pathLastVertex[slot];
-        int flags = pathFlags[slot] + PATH_STORED_ONE;
-        pathFlags[slot] = flags;
-        r.vertex.number = flags / PATH_STORED_ONE;
-        lightVertices[at.w] = r.vertex;
-        pathLastVertex[slot] = at.w;
-        lightPathHead[pathPixel[slot] - params.firstLightPath] = at.w;
-    }
+    if (at.w >= 0)
+        append_light_vertex(&b, &params, slot, at.w, &r.vertex);
     report_nonfinite(queueCounters, rejected);
 }
