@@ -264,7 +264,7 @@ void BM_HashGridBuild(benchmark::State& state)
     std::uniform_real_distribution<float> u(0, 1);
     std::vector<LightVertex> vertices(n);
     for (LightVertex& v : vertices)
-        for (float& c : v.position) c = u(rng);
+        for (float& c : v.surface.position) c = u(rng);
     cl::Buffer buffer = uploadBuffer(device, vertices.data(), n * sizeof(LightVertex), "vertices");
     HashGrid grid(device, program);
     grid.reserve(n);

@@ -33,7 +33,7 @@ void checkCase(const DeviceInfo& info, const Case& c)
     for (int i = 0; i < c.vertices; ++i) {
         Vec3 p = i % 2 ? Vec3(u(rng), u(rng), u(rng)) : Vec3(0.3f, -0.7f, 0.1f) + Vec3(cluster(rng), cluster(rng), cluster(rng));
         vertices[i] = LightVertex{};
-        for (int a = 0; a < 3; ++a) vertices[i].position[a] = p[a];
+        for (int a = 0; a < 3; ++a) vertices[i].surface.position[a] = p[a];
         vertices[i].pathLength = i; // the grid copies it: the query kernel sums it as the vertex's index
         positions.push_back(p);
     }

@@ -20,6 +20,7 @@ static_assert(sizeof(Material) == 128, "Material layout");
 static_assert(sizeof(TextureInfo) == 48, "TextureInfo layout");
 static_assert(sizeof(Light) == 64, "Light layout");
 static_assert(sizeof(SceneInfo) == 48, "SceneInfo layout");
+static_assert(sizeof(SurfaceRecord) == 64, "SurfaceRecord layout");
 static_assert(sizeof(LightVertex) == 128, "LightVertex layout");
 static_assert(sizeof(MergeVertex) == 64, "MergeVertex layout");
 

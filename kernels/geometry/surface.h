@@ -9,6 +9,7 @@
 #include "core/sampling.h"
 #include "core/vec3.h"
 #include "interface/inline.h"
+#include "interface/shared_types.h"
 
 /* Vertex k (0-2) of triangle `tri`; `normals` work the same way. */
 INLINE vec3 triangle_vertex(__global const float4* triVertices, int tri, int k)
@@ -81,6 +82,33 @@ INLINE SurfaceHit surface_hit(__global const float4* triVertices, __global const
 #else
     h.frame = frame_from_normal(h.nsF);
 #endif
+    return h;
+}
+
+/* A SurfaceHit as stored for later kernels (SurfaceRecord, in light
+ * vertices), and back: the frame follows from the shading normal as
+ * set_shading_normal makes it. */
+INLINE SurfaceRecord surface_record(const SurfaceHit* h)
+{
+    SurfaceRecord r;
+    store3(r.position, h->p);
+    store3(r.positionError, h->pError);
+    store3(r.geometricNormal, h->ngF);
+    store3(r.shadingNormal, h->nsF);
+    r.frontSide = h->frontSide ? 1 : 0;
+    r.pad0 = r.pad1 = r.pad2 = 0.0f;
+    return r;
+}
+
+INLINE SurfaceHit recorded_surface_hit(__global const SurfaceRecord* r)
+{
+    SurfaceHit h;
+    h.p = load3(r->position);
+    h.pError = load3(r->positionError);
+    h.ngF = load3(r->geometricNormal);
+    h.nsF = load3(r->shadingNormal);
+    h.frame = frame_from_normal(h.nsF);
+    h.frontSide = r->frontSide != 0;
     return h;
 }
 

@@ -140,32 +140,41 @@ typedef struct Light {
                            (a doubleSided material); their emission densities carry 1/sides */
 } Light;
 
+/* A surface point as a kernel built it (SurfaceHit, geometry/surface.h),
+ * stored for later kernels so that they need not rebuild it from the
+ * triangle: one 64-byte cache line. */
+typedef struct SurfaceRecord {
+    float position[3];
+    int frontSide;            /* SurfaceHit.frontSide */
+    float positionError[3];   /* SurfaceHit.pError */
+    float pad0;
+    float geometricNormal[3]; /* SurfaceHit.ngF */
+    float pad1;
+    float shadingNormal[3];   /* SurfaceHit.nsF */
+    float pad2;
+} SurfaceRecord;
+
 /* A vertex of a light sub-path, stored for vertex connection (and merging):
  * everything a camera vertex needs to connect to it, 128 bytes. Its surface
- * (the SurfaceHit that shade_light built: error bound, normals, side) is
- * stored, not rebuilt from the triangle per connection: rebuilding took
- * about a tenth of connect_vertices (README, "Performance"). The triangle
- * and barycentrics remain for its material and textures. Vertices of one
- * light path form a list from its last vertex back (prev). */
+ * is stored as shade_light built it, not rebuilt from the triangle per
+ * connection (that took about a tenth of connect_vertices: README,
+ * "Performance"); the triangle and barycentrics remain for its material and
+ * textures. Vertices of one light path form a list from its last vertex
+ * back (prev). */
 typedef struct LightVertex {
-    float position[3];
-    int prev;            /* previous stored vertex of the same light path, -1 at its first */
+    SurfaceRecord surface;
     float throughput[3]; /* of the light path up to and including this vertex's incoming segment */
     float dVCM;
     float toLight[3];    /* unit direction back along the light path */
     float dVC;
-    float positionError[3]; /* SurfaceHit.pError */
     float dVM;
-    float geometricNormal[3]; /* SurfaceHit.ngF: on toLight's side */
     int pathLength;      /* segments from the light to this vertex */
-    float shadingNormal[3]; /* SurfaceHit.nsF */
     int triangle;        /* BVH-ordered: material, textures */
+    int prev;            /* previous stored vertex of the same light path, -1 at its first */
     float b1;            /* barycentrics of the hit */
     float b2;
     float continuation;  /* Russian roulette survival probability of its BSDF (merging's reverse pdf) */
     int number;          /* of its light path's stored vertices, counting from 1 at the light's end */
-    int frontSide;       /* SurfaceHit.frontSide */
-    int pad[3];
 } LightVertex;
 
 /* A light vertex as vertex merging reads it (merge.cl), copied by the hash

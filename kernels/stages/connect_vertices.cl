@@ -25,7 +25,6 @@
 #include "lights/lights.h"
 #include "materials/surface_bsdf.h"
 #include "transport/camera_vertex.h"
-#include "transport/light_vertex.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
@@ -60,7 +59,7 @@ INLINE bool connect_to_light_vertex(const RenderBuffers* b, const LaunchParams* 
 {
     vec3 toLight = load3(lv->toLight);
     vec2 lightBary = v2(lv->b1, lv->b2);
-    SurfaceHit lightHit = light_vertex_surface(lv);
+    SurfaceHit lightHit = recorded_surface_hit(&lv->surface);
     if (!connection_resolved(cv->hit.p, cv->hit.pError, cv->hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF))
         return false;
     vec3 d = v3_sub(lightHit.p, cv->hit.p);

@@ -14,7 +14,7 @@
 /* The bucket of vertex i. */
 INLINE int vertex_bucket(__global const LightVertex* vertices, int i, float cellSize, uint cellCount)
 {
-    return (int)grid_bucket(grid_cell(vload3(0, vertices[i].position), cellSize), cellCount);
+    return (int)grid_bucket(grid_cell(vload3(0, vertices[i].surface.position), cellSize), cellCount);
 }
 
 /* Counts each bucket's vertices and keeps, per vertex, its bucket and its
@@ -95,7 +95,7 @@ __kernel void grid_scatter(__global const LightVertex* vertices, int count, __gl
     __global const LightVertex* v = &vertices[i];
     int2 place = vertexPlaces[i];
     __global float4* m = (__global float4*)&bucketVertices[bucketStarts[place.x] + place.y];
-    STREAM_STORE((float4)(vload3(0, v->position), as_float(v->pathLength)), m);
+    STREAM_STORE((float4)(vload3(0, v->surface.position), as_float(v->pathLength)), m);
     STREAM_STORE((float4)(vload3(0, v->toLight), v->dVCM), m + 1);
     STREAM_STORE((float4)(vload3(0, v->throughput), v->dVM), m + 2);
     STREAM_STORE((float4)(v->continuation, 0.0f, 0.0f, 0.0f), m + 3);

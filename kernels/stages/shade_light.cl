@@ -22,7 +22,6 @@
 #include "materials/bsdf.h"
 #include "materials/surface_bsdf.h"
 #include "transport/continue_path.h"
-#include "transport/light_vertex.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
@@ -78,7 +77,7 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     if (bsdf_has_nondelta(&bsdf)) {
         if (params->storeVertices) {
             LightVertex v;
-            store_light_vertex_surface(&v, &hit);
+            v.surface = surface_record(&hit);
             store3(v.throughput, beta);
             store3(v.toLight, wLight);
             v.dVCM = mis.dVCM;
