@@ -28,29 +28,6 @@
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
-/* The last stored vertex of the light path that queue entry i connects to,
- * -1 for none or past the queue's end. */
-INLINE int light_path_ahead(const RenderBuffers* b, const LaunchParams* params, int i)
-{
-    int slot = queue_item(b->queueItems, b->queueCounters, params->capacity, QUEUE_HITS, i);
-    return slot < 0 ? -1 : b->lightPathHead[b->pathPixel[slot] - params->firstLightPath];
-}
-
-/* Hints for the connections ahead: the last light vertex of entry i + D's
- * light path, and the material index of entry i + D/2's, whose triangle
- * that hint brought. */
-INLINE void prefetch_light_paths(const RenderBuffers* b, const LaunchParams* params, int i)
-{
-#ifdef HAS_PREFETCH
-    int v = light_path_ahead(b, params, i + PREFETCH_DISTANCE);
-    if (v >= 0)
-        PREFETCH(&b->lightVertices[v], sizeof(LightVertex));
-    v = light_path_ahead(b, params, i + PREFETCH_DISTANCE / 2);
-    if (v >= 0)
-        PREFETCH(&b->triMaterials[b->lightVertices[v].triangle], 4);
-#endif
-}
-
 /* The connection of camera vertex cv (throughput beta) to light vertex lv:
  * false if it contributes nothing, else its contribution *c if nothing is in
  * the way of *shadow. */
@@ -148,7 +125,6 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
     prefetch_pixel(&b, params.capacity, QUEUE_HITS, get_global_id(0), connectionRadiance);
-    prefetch_light_paths(&b, &params, get_global_id(0));
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     int depth = 0, last = -1; /* last: the light path's last stored vertex, -1: nothing to connect to */
     if (slot >= 0) {
