@@ -20,12 +20,11 @@ import argparse
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
 import tempfile
 
-from ray_instructions import parse
+from ray_instructions import callgrind_env, parse
 
 
 def main():
@@ -36,12 +35,8 @@ def main():
     ap.add_argument("--iterations", type=int, default=2)
     ap.add_argument("--build", default="build")
     args = ap.parse_args()
-    if not shutil.which("valgrind"):
-        sys.exit("kernel_instructions: needs valgrind (apt-get install valgrind)")
     wavevcm = os.path.join(args.build, "wavevcm")
-    if not os.access(wavevcm, os.X_OK):
-        sys.exit(f"kernel_instructions: build {wavevcm} first")
-    env = dict(os.environ, POCL_MAX_PTHREAD_COUNT="1")
+    env = callgrind_env("kernel_instructions", wavevcm)
     with tempfile.TemporaryDirectory() as work:
         stats = os.path.join(work, "stats.json")
         run = [wavevcm, "render", args.scene, "-a", args.algorithm, "-n", str(args.iterations),

@@ -72,18 +72,25 @@ def parse(path):
     return costs, calls
 
 
+def callgrind_env(tool, binary):
+    """Exits with a message unless valgrind and the built `binary` are there;
+    else the environment that runs PoCL on one thread (callgrind serializes
+    threads, and one thread's work-group functions are what is counted)."""
+    if not shutil.which("valgrind"):
+        sys.exit(f"{tool}: needs valgrind (apt-get install valgrind)")
+    if not os.access(binary, os.X_OK):
+        sys.exit(f"{tool}: build {binary} first")
+    return dict(os.environ, POCL_MAX_PTHREAD_COUNT="1")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scene", help="glTF scene (default: the benchmark's, the Cornell box)")
     ap.add_argument("--bench", nargs="+", default=["ExtendIncoherent"])
     ap.add_argument("--build", default="build")
     args = ap.parse_args()
-    if not shutil.which("valgrind"):
-        sys.exit("ray_instructions: needs valgrind (apt-get install valgrind)")
     bench = os.path.join(args.build, "wavevcm_bench")
-    if not os.access(bench, os.X_OK):
-        sys.exit(f"ray_instructions: build {bench} first")
-    env = dict(os.environ, POCL_MAX_PTHREAD_COUNT="1")
+    env = callgrind_env("ray_instructions", bench)
     if args.scene:
         env["WAVEVCM_BENCH_SCENE"] = args.scene
     print("| benchmark | wavevcm instructions/ray | Embree instructions/ray | ratio |")
