@@ -33,9 +33,12 @@ typedef struct Hit {
 /* Per-ray constants of the slab test. near[a] is the offset, in floats into
  * BvhNode.bounds, of the child boxes' plane the ray enters through on axis a
  * (lower bound if the direction is positive), far[a] of the one it leaves
- * through. */
+ * through. A plane's distance is (origin - plane) · (-1/direction), the
+ * same number as (plane - origin) / direction, but with the plane second in
+ * the subtraction x86 reads it from memory in the same instruction (six
+ * instructions fewer per node visit). */
 typedef struct BoxRay {
-    float3 origin, invDir;
+    float3 origin, negInvDir;
     int near[3], far[3];
 } BoxRay;
 
@@ -43,8 +46,9 @@ INLINE BoxRay box_ray(Ray ray)
 {
     BoxRay r;
     r.origin = to_float3(ray.origin);
-    r.invDir = 1.0f / to_float3(ray.direction);
-    int3 negative = signbit(r.invDir);
+    float3 invDir = 1.0f / to_float3(ray.direction);
+    r.negInvDir = -invDir;
+    int3 negative = signbit(invDir);
     r.near[0] = (negative.x ? 3 : 0) * BVH_WIDTH; r.far[0] = 3 * BVH_WIDTH - r.near[0];
     r.near[1] = (negative.y ? 4 : 1) * BVH_WIDTH; r.far[1] = 5 * BVH_WIDTH - r.near[1];
     r.near[2] = (negative.z ? 5 : 2) * BVH_WIDTH; r.far[2] = 7 * BVH_WIDTH - r.near[2];
@@ -58,7 +62,7 @@ INLINE floatw max_skipping_nan(floatw a, floatw b) { return select(b, a, a > b);
 INLINE floatw min_skipping_nan(floatw a, floatw b) { return select(b, a, a < b); }
 
 /* Slab test of every child box: *enter and *leave get each child's entry
- * and exit distances; a child is hit where enter <= leave. invDir may hold
+ * and exit distances; a child is hit where enter <= leave. negInvDir may hold
  * ±∞ for axis-parallel rays; where the origin then lies exactly on a slab
  * plane, 0·∞ = NaN stands for "inside the slab on this axis", which the
  * maximum and minimum skip (each takes the plane's value, maybe NaN, first
@@ -72,12 +76,12 @@ INLINE void intersect_child_boxes(__global const BvhNode* node, const BoxRay* r,
                                   floatw* leave)
 {
     __global const float* bounds = &node->bounds[0][0];
-    floatw nx = (vloadw(0, bounds + r->near[0]) - r->origin.x) * r->invDir.x;
-    floatw ny = (vloadw(0, bounds + r->near[1]) - r->origin.y) * r->invDir.y;
-    floatw nz = (vloadw(0, bounds + r->near[2]) - r->origin.z) * r->invDir.z;
-    floatw fx = (vloadw(0, bounds + r->far[0]) - r->origin.x) * r->invDir.x;
-    floatw fy = (vloadw(0, bounds + r->far[1]) - r->origin.y) * r->invDir.y;
-    floatw fz = (vloadw(0, bounds + r->far[2]) - r->origin.z) * r->invDir.z;
+    floatw nx = (r->origin.x - vloadw(0, bounds + r->near[0])) * r->negInvDir.x;
+    floatw ny = (r->origin.y - vloadw(0, bounds + r->near[1])) * r->negInvDir.y;
+    floatw nz = (r->origin.z - vloadw(0, bounds + r->near[2])) * r->negInvDir.z;
+    floatw fx = (r->origin.x - vloadw(0, bounds + r->far[0])) * r->negInvDir.x;
+    floatw fy = (r->origin.y - vloadw(0, bounds + r->far[1])) * r->negInvDir.y;
+    floatw fz = (r->origin.z - vloadw(0, bounds + r->far[2])) * r->negInvDir.z;
     *enter = max_skipping_nan(nz, max_skipping_nan(ny, max_skipping_nan(nx, (floatw)(0.0f))));
     *leave = min_skipping_nan(fz, min_skipping_nan(fy, min_skipping_nan(fx, (floatw)(tMax)))) * 1.0000004f;
 }
