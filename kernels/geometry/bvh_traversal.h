@@ -48,10 +48,11 @@ INLINE BoxRay box_ray(Ray ray)
     r.origin = to_float3(ray.origin);
     float3 invDir = 1.0f / to_float3(ray.direction);
     r.negInvDir = -invDir;
-    int3 negative = signbit(invDir);
-    r.near[0] = (negative.x ? 3 : 0) * BVH_WIDTH; r.far[0] = 3 * BVH_WIDTH - r.near[0];
-    r.near[1] = (negative.y ? 4 : 1) * BVH_WIDTH; r.far[1] = 5 * BVH_WIDTH - r.near[1];
-    r.near[2] = (negative.z ? 5 : 2) * BVH_WIDTH; r.far[2] = 7 * BVH_WIDTH - r.near[2];
+    /* 3 · BVH_WIDTH where the direction is negative: the upper planes. */
+    int3 flip = (as_int3(invDir) >> 31) & (3 * BVH_WIDTH);
+    int3 near = (int3)(0, 1, 2) * BVH_WIDTH + flip, far = (int3)(3, 4, 5) * BVH_WIDTH - flip;
+    r.near[0] = near.x; r.near[1] = near.y; r.near[2] = near.z;
+    r.far[0] = far.x; r.far[1] = far.y; r.far[2] = far.z;
     return r;
 }
 
