@@ -58,7 +58,7 @@ struct BinaryNode {
     const BinaryNode* first;  // null for a leaf
     const BinaryNode* second;
     int height;
-    // The wide tree's plan (WidePlan below): cost[j - 1], the least expected
+    // The wide tree's plan (planWide below): cost[j - 1], the least expected
     // cost of this subtree as at most j roots of a wide node; split[j - 1],
     // how: 0 as one root, k > 0 as k roots from `first` and j - k from
     // `second`; wideSplit, that split for the subtree's own wide node's
