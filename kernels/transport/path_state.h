@@ -123,6 +123,25 @@ INLINE void prefetch_triangle(const RenderBuffers* b, int tri)
     PREFETCH(&b->triMaterials[tri], 4);
 }
 
+/* For the shade kernels, the lines of entry i + 2D's path state that
+ * prefetch_hit_state leaves out: the ray origin, which continuing the path
+ * writes (store_continuation; the queue push's locked increment waited for
+ * that store's miss), and the bidirectional programs' path flags. Hints for
+ * the shadow-ray arrays and a light path's last vertex as well made
+ * shade_light slower (README, "Performance"). */
+INLINE void prefetch_shade_outputs(const RenderBuffers* b, int capacity, int queue, int i)
+{
+#ifdef HAS_PREFETCH
+    int slot = queue_item(b->queueItems, b->queueCounters, capacity, queue, i + 2 * PREFETCH_DISTANCE);
+    if (slot >= 0) {
+        PREFETCH(&b->rayOrigins[slot], 16);
+#ifdef BIDIRECTIONAL
+        PREFETCH(&b->pathFlags[slot], 4);
+#endif
+    }
+#endif
+}
+
 INLINE void prefetch_hit_state(const RenderBuffers* b, int capacity, int queue, int i)
 {
 #ifdef HAS_PREFETCH
