@@ -727,7 +727,8 @@ Bvh buildBvh(const std::vector<Vec3>& vertices)
     for (unsigned threads = std::max(1u, std::thread::hardware_concurrency()); (1u << (parallelDepth - 4)) < threads;)
         ++parallelDepth;
     NodeArrays arrays;
-    const BinaryNode* root = Builder(tris, arrays, parallelDepth, all.bounds.bounds()).node(arrays.add(count), 0, uint32_t(count), all, 0);
+    Builder builder(tris, arrays, parallelDepth, all.bounds.bounds());
+    const BinaryNode* root = builder.node(arrays.add(count), 0, uint32_t(count), all, 0);
     // The SAH cost, a walk of the whole binary tree that only --stats
     // reads, is summed beside the collapse.
     std::future<double> cost = std::async(std::launch::async, [root] { return sahCost(root); });
