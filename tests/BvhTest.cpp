@@ -6,6 +6,7 @@
 // and rays starting on surfaces.
 #include "../kernels/interface/queue_ids.h"
 #include "TestDevices.h"
+#include "Error.h"
 #include "bvh/Bvh.h"
 #include "render/KernelBindings.h"
 #include "render/SceneBuffers.h"
@@ -297,7 +298,7 @@ void checkAgainstBruteForce(const Scene& scene, const RaySet& rays, const char* 
 // empty slots never hit, every BVH position in exactly one leaf
 // lane with the right vertices inside its box, and no traversal needing more
 // than the kernels' stack. Returns the failures.
-int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v)
+int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v, int stackBudget = BVH_STACK_SIZE - 1)
 {
     int failures = 0;
     auto fail = [&](const std::string& what) {
@@ -378,7 +379,9 @@ int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v)
     };
     Bounds all;
     int stack = visit(0, &all);
-    EXPECT_LE(stack + 1, BVH_STACK_SIZE) << "a traversal could overflow the stack";
+    if (stack > stackBudget)
+        fail("a traversal can hold " + std::to_string(stack) + " stack entries, above the budget of " +
+             std::to_string(stackBudget));
     for (size_t n = 0; n < bvh.nodes.size(); ++n)
         if (!nodeSeen[n]) fail("node " + std::to_string(n) + " unreachable");
     for (size_t i = 0; i < triangles; ++i)
@@ -434,12 +437,12 @@ TEST(Bvh, StructureIsValid)
 }
 
 // checkStructure on a tree, its failure reports intercepted.
-int silentStructureFailures(const Bvh& bvh, const std::vector<Vec3>& v)
+int silentStructureFailures(const Bvh& bvh, const std::vector<Vec3>& v, int stackBudget = BVH_STACK_SIZE - 1)
 {
     ::testing::TestPartResultArray reports;
     ::testing::ScopedFakeTestPartResultReporter reporter(
         ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &reports);
-    return checkStructure(bvh, v);
+    return checkStructure(bvh, v, stackBudget);
 }
 
 // The check fails on a broken tree: a packet vertex moved, a triangle in two
@@ -463,6 +466,35 @@ TEST(Bvh, StructureCheckDetectsBrokenTrees)
     EXPECT_GT(silentStructureFailures(duplicated, v), 0);
     EXPECT_GT(silentStructureFailures(shrunk, v), 0);
     EXPECT_GT(silentStructureFailures(loose, v), 0);
+}
+
+// The collapse's stack bound (Bvh.cpp, Collapser). With the whole stack no
+// test scene reaches the fallback to a binary node's two children, so the
+// build is given a budget of only its binary tree's height: the eight-child
+// nodes the cost model plans need more than that (checked), and the collapse
+// must fall back wherever they would not fit. The tree must stay valid
+// within that budget, on one core (1,000 triangles) and with subtrees
+// collapsed on threads (100,000), and a budget below the height is refused.
+TEST(Bvh, CollapseFitsAStackBudgetOfTheBinaryHeight)
+{
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(-10, 10);
+    for (int vertices : {3000, 300000}) {
+        SCOPED_TRACE(std::to_string(vertices) + " random vertices");
+        std::vector<Vec3> v;
+        for (int i = 0; i < vertices; ++i) v.push_back(Vec3(u(rng), u(rng), u(rng)));
+        const Bvh planned = buildBvh(v);
+        int height = planned.binaryHeight;
+        ASSERT_GT(height, 4);
+        EXPECT_GT(silentStructureFailures(planned, v, height), 0) << "the planned tree fits the small budget anyway";
+        for (int budget : {height, height + 3}) {
+            SCOPED_TRACE("budget " + std::to_string(budget));
+            Bvh bvh = buildBvh(v, budget);
+            EXPECT_EQ(checkStructure(bvh, v, budget), 0);
+            EXPECT_GT(bvh.nodes.size(), planned.nodes.size()) << "no binary nodes taken";
+        }
+        EXPECT_THROW(buildBvh(v, height - 1), Error);
+    }
 }
 
 TEST(Bvh, CornellBoxMatchesBruteForce)

@@ -462,8 +462,8 @@ private:
 // so a traversal from a node never holds more than S(node) = (children - 1) +
 // max over interior children of S(child), plus one while pushing. A binary
 // subtree of height h can always be collapsed with S <= h (two children per
-// node), so each node is given a budget, starting at BVH_STACK_SIZE - 1 >= the
-// binary tree's height, and a node whose plan would need (children - 1) plus
+// node), so each node is given a budget, starting at the build's (BVH_STACK_SIZE
+// - 1 unless a test asks for less) >= the binary tree's height, and a node whose plan would need (children - 1) plus
 // its interior children's largest binary height above its budget takes its
 // binary node's two children instead.
 //
@@ -586,17 +586,20 @@ private:
     uint32_t deferBelow_;
 };
 
-// The wide tree of the binary tree at `root` into bvh (nodes, packets, depth).
-void collapse(const std::vector<Vec3>& vertices, const BinaryNode* root, Bvh& bvh)
+// The wide tree of the binary tree at `root` into bvh (nodes, packets, depth),
+// needing at most stackBudget stack entries.
+void collapse(const std::vector<Vec3>& vertices, const BinaryNode* root, int stackBudget, Bvh& bvh)
 {
-    if (root->height > kMaxBvhDepth) throw Error("internal error: the binary BVH is too deep");
+    if (root->height > stackBudget)
+        throw Error("internal error: the binary BVH (height " + std::to_string(root->height) +
+                    ") is deeper than the traversal stack allows (" + std::to_string(stackBudget) + ")");
     unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     // Tasks of about 1/16 of the triangles per core balance the cores; small
     // scenes are collapsed on one.
     uint32_t deferBelow = threads > 1 && root->count >= kParallelMinTriangles ? root->count / (16 * threads) : 0;
     std::vector<Collapser> parts(1, Collapser(deferBelow)); // the top, then a part per task
     parts[0].nodes.emplace_back();
-    parts[0].fill(0, root, BVH_STACK_SIZE - 1, 1);
+    parts[0].fill(0, root, stackBudget, 1);
     const std::vector<Collapser::Task> tasks = std::move(parts[0].tasks);
     parts.resize(1 + tasks.size(), Collapser(0));
     parallelFor(tasks.size(), [&](size_t i) {
@@ -692,7 +695,7 @@ void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t
     writePackets(vertices, order, begin, count, packets.data() + first);
 }
 
-Bvh buildBvh(const std::vector<Vec3>& vertices)
+Bvh buildBvh(const std::vector<Vec3>& vertices, int stackBudget)
 {
     auto start = std::chrono::steady_clock::now();
     size_t count = vertices.size() / 3;
@@ -738,7 +741,8 @@ Bvh buildBvh(const std::vector<Vec3>& vertices)
         for (size_t i = count * chunk / kChunks; i < count * (chunk + 1) / kChunks; ++i)
             bvh.triangleOrder[i] = tris[i].index();
     });
-    collapse(vertices, root, bvh);
+    bvh.binaryHeight = root->height;
+    collapse(vertices, root, stackBudget, bvh);
     double rootArea = root->bounds.surfaceArea();
     bvh.sahCost = rootArea > 0 ? cost.get() / rootArea : 0;
     bvh.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

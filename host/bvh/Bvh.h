@@ -58,6 +58,7 @@ struct Bvh {
     // triangleOrder[i] is the scene triangle stored at BVH position i.
     std::vector<uint32_t> triangleOrder;
     int depth = 0;          // levels of wide nodes
+    int binaryHeight = 0;   // of the binary tree it was collapsed from (a leaf: 0)
     // Of the binary tree the wide one is collapsed from (leaves of at most
     // TRIANGLE_PACKET_WIDTH triangles, or more where SAH says so), per ray into
     // the root's box: traversal step 1, triangle test 1.
@@ -65,8 +66,15 @@ struct Bvh {
     double buildSeconds = 0;
 };
 
+// The binary tree's depth bound (BVH_STACK_SIZE in shared_types.h is the
+// traversal stack): a tree this deep can be collapsed within the stack.
+constexpr int kMaxBvhDepth = BVH_STACK_SIZE - 1;
+
 // `vertices` holds three vertices per triangle. Throws if there are none.
-Bvh buildBvh(const std::vector<Vec3>& vertices);
+// stackBudget: the most stack entries a traversal of the wide tree may hold;
+// at least the binary tree's height (tests pass that height, so that the
+// collapse must fall back to binary nodes where eight children would not fit).
+Bvh buildBvh(const std::vector<Vec3>& vertices, int stackBudget = kMaxBvhDepth);
 
 // Writes the packets of BVH positions [begin, begin + count), in order, to
 // out[0, ceil(count / TRIANGLE_PACKET_WIDTH)); the vertices of position i are
@@ -77,9 +85,5 @@ void writePackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>
 // Appends the packets of BVH positions [begin, begin + count) (writePackets).
 void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
                    uint32_t count, std::vector<TrianglePacket>& packets);
-
-// The binary tree's depth bound (BVH_STACK_SIZE in shared_types.h is the
-// traversal stack): a tree this deep can be collapsed within the stack.
-constexpr int kMaxBvhDepth = BVH_STACK_SIZE - 1;
 
 } // namespace wv
