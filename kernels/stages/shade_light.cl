@@ -29,7 +29,9 @@
  * returned from a function. */
 typedef struct LightHitResult {
     int alive, shadowRay, storeVertex;
-    LightVertex vertex; /* to store after the group's reservation (not with PUSH_PER_ITEM) */
+#ifndef PUSH_PER_ITEM
+    LightVertex vertex; /* to store after the group's reservation */
+#endif
 } LightHitResult;
 
 /* Stores vertex v of the light path in `slot` at place `at` of the light
@@ -164,7 +166,9 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
         queueItems[queues.y * params.capacity + at.y] = slot;
     if (at.z >= 0)
         queueItems[queues.z * params.capacity + at.z] = slot;
+#ifndef PUSH_PER_ITEM
     if (at.w >= 0)
         append_light_vertex(&b, &params, slot, at.w, &r.vertex);
+#endif
     report_nonfinite(queueCounters, rejected);
 }
