@@ -9,7 +9,9 @@
 #     (the machine's speed drifts by ±10 % between single runs);
 #   - relMSE between the two builds' images at the same seed and iteration
 #     count (SPP), which says whether the change kept the image: ~1e-12 is
-#     float rounding, a changed sampling shows as noise-level relMSE.
+#     float rounding, a changed sampling shows as noise-level relMSE (at 4
+#     iterations up to thousands where fireflies fall on different pixels);
+#   - the ratio of the two images' means, ~1 when either holds.
 # Usage: scripts/compare_commits.sh [BEFORE] ; settings from the environment:
 #   SCENES="scenes/cornell-box.gltf scenes/caustics.gltf"  ALGORITHMS="pt bpt vcm"
 #   SECONDS_EACH=10  SPP=4  WIDTH=512  HEIGHT=512  DEVICE=pthread  MAX_PATH_LENGTH=10  REPEATS=1
@@ -46,11 +48,11 @@ trap 'rm -rf "$work"' EXIT
 rate() { python3 -c 'import json,sys; s=json.load(open(sys.argv[1])); print(s["iterations"]/s["render_seconds"])' "$1"; }
 
 if [ "$repeats" -gt 1 ]; then
-  printf '| scene | algorithm | before it/s (median of %s) | after it/s (median) | after/before (medians) | paired ratios, min-max | relMSE after vs before (%s it, same seed) |\n' "$repeats" "$spp"
-  printf '| --- | --- | --- | --- | --- | --- | --- |\n'
+  printf '| scene | algorithm | before it/s (median of %s) | after it/s (median) | after/before (medians) | paired ratios, min-max | relMSE after vs before (%s it, same seed) | mean after/before |\n' "$repeats" "$spp"
+  printf '| --- | --- | --- | --- | --- | --- | --- | --- |\n'
 else
-  printf '| scene | algorithm | before it/s | after it/s | after/before | relMSE after vs before (%s it, same seed) |\n' "$spp"
-  printf '| --- | --- | --- | --- | --- | --- |\n'
+  printf '| scene | algorithm | before it/s | after it/s | after/before | relMSE after vs before (%s it, same seed) | mean after/before |\n' "$spp"
+  printf '| --- | --- | --- | --- | --- | --- | --- |\n'
 fi
 for scene in $scenes; do
   for a in $algorithms; do
@@ -68,18 +70,21 @@ for scene in $scenes; do
     done
     "$old" "${common[@]}" -n "$spp" --seed 7 -o "$work/old.exr"
     "$new" "${common[@]}" -n "$spp" --seed 7 -o "$work/new.exr"
-    relmse=$("$new" compare "$work/new.exr" "$work/old.exr" | sed -n 's/.*relmse \([^ ]*\).*/\1/p')
-    python3 - "$(basename "$scene" .gltf)" "$a" "$relmse" "${before[*]}" "${after[*]}" <<'PY'
+    difference=$("$new" compare "$work/new.exr" "$work/old.exr")
+    relmse=$(sed -n 's/^relmse \([^ ]*\).*/\1/p' <<< "$difference")
+    mean_ratio=$(sed -n 's/^mean_ratio \([^ ]*\).*/\1/p' <<< "$difference")
+    python3 - "$(basename "$scene" .gltf)" "$a" "$relmse" "$mean_ratio" "${before[*]}" "${after[*]}" <<'PY'
 import statistics, sys
-scene, algorithm, relmse = sys.argv[1:4]
-before = [float(x) for x in sys.argv[4].split()]
-after = [float(x) for x in sys.argv[5].split()]
+scene, algorithm, relmse, mean_ratio = sys.argv[1:5]
+before = [float(x) for x in sys.argv[5].split()]
+after = [float(x) for x in sys.argv[6].split()]
 b, a = statistics.median(before), statistics.median(after)
+mean_ratio = f"{float(mean_ratio):.4f}"
 if len(before) == 1:
-    print(f"| {scene} | {algorithm} | {b:.3g} | {a:.3g} | {a / b:.2f} | {relmse} |")
+    print(f"| {scene} | {algorithm} | {b:.3g} | {a:.3g} | {a / b:.2f} | {relmse} | {mean_ratio} |")
 else:
     ratios = [y / x for x, y in zip(before, after)]
-    print(f"| {scene} | {algorithm} | {b:.3g} | {a:.3g} | {a / b:.2f} | {min(ratios):.2f}-{max(ratios):.2f} | {relmse} |")
+    print(f"| {scene} | {algorithm} | {b:.3g} | {a:.3g} | {a / b:.2f} | {min(ratios):.2f}-{max(ratios):.2f} | {relmse} | {mean_ratio} |")
 PY
   done
 done

@@ -297,7 +297,8 @@ void checkAgainstBruteForce(const Scene& scene, const RaySet& rays, const char* 
 // loose box is still correct, but rays that miss the triangles enter it),
 // empty slots never hit, every BVH position in exactly one leaf
 // lane with the right vertices inside its box, and no traversal needing more
-// than the kernels' stack. Returns the failures.
+// than stackBudget entries (by default what the kernels' stack holds).
+// Returns the failures.
 int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v, int stackBudget = BVH_STACK_SIZE - 1)
 {
     int failures = 0;

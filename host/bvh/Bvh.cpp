@@ -463,9 +463,9 @@ private:
 // max over interior children of S(child), plus one while pushing. A binary
 // subtree of height h can always be collapsed with S <= h (two children per
 // node), so each node is given a budget, starting at the build's (BVH_STACK_SIZE
-// - 1 unless a test asks for less) >= the binary tree's height, and a node whose plan would need (children - 1) plus
-// its interior children's largest binary height above its budget takes its
-// binary node's two children instead.
+// - 1 unless a test asks for less) >= the binary tree's height, and a node
+// whose plan would need (children - 1) plus its interior children's largest
+// binary height above its budget takes its binary node's two children instead.
 //
 // In parallel: the top of the tree is collapsed first, with every interior
 // child of at most `deferBelow` triangles left as a task; the tasks are
