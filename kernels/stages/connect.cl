@@ -35,17 +35,28 @@ INLINE void prefetch_shadow_pixels(const RenderBuffers* b, int capacity, int i, 
 #endif
 }
 
+/* The slot of shadow-queue entry i if nothing is in its ray's way, else -1
+ * (also past the queue's end); first the hints for the entries ahead, whose
+ * contributions go to image[pixelOf[slot]]. */
+INLINE int unoccluded_shadow_slot(const RenderBuffers* b, int capacity, int i, __global const int* pixelOf,
+                                  __global const float4* image)
+{
+    prefetch_ray(b->queueItems, b->queueCounters, capacity, QUEUE_SHADOW, i, b->shadowOrigins, b->shadowDirections);
+    prefetch_shadow_pixels(b, capacity, i, pixelOf, image);
+    int slot = queue_item(b->queueItems, b->queueCounters, capacity, QUEUE_SHADOW, i);
+    if (slot < 0)
+        return -1;
+    Hit hit;
+    bool occluded = trace_ray(b->nodes, b->trianglePackets, load_ray(b->shadowOrigins, b->shadowDirections, slot),
+                              true, &hit, b);
+    return occluded ? -1 : slot;
+}
+
 __kernel void connect(RENDER_KERNEL_PARAMS)
 {
     RenderBuffers b = RENDER_BUFFERS_VALUE;
-    prefetch_ray(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0), shadowOrigins,
-                 shadowDirections);
-    prefetch_shadow_pixels(&b, params.capacity, get_global_id(0), pathPixel, pixelRadiance);
-    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
-    if (slot < 0)
-        return;
-    Hit hit;
-    if (!trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit, &b))
+    int slot = unoccluded_shadow_slot(&b, params.capacity, get_global_id(0), pathPixel, pixelRadiance);
+    if (slot >= 0)
         add_vec3(pixelRadiance, pathPixel[slot], load_vec3(shadowContribution, slot));
 }
 
@@ -74,16 +85,9 @@ INLINE void atomic_add_vec3(__global float4* image, int pixel, vec3 c)
 __kernel void connect_splat(RENDER_KERNEL_PARAMS)
 {
     RenderBuffers b = RENDER_BUFFERS_VALUE;
-    prefetch_ray(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0), shadowOrigins,
-                 shadowDirections);
-    prefetch_shadow_pixels(&b, params.capacity, get_global_id(0), shadowPixel, splatRadiance);
-    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_SHADOW, get_global_id(0));
-    if (slot < 0)
-        return;
-    Hit hit;
-    if (trace_ray(nodes, trianglePackets, load_ray(shadowOrigins, shadowDirections, slot), true, &hit, &b))
-        return;
-    atomic_add_vec3(splatRadiance, shadowPixel[slot], load_vec3(shadowContribution, slot));
+    int slot = unoccluded_shadow_slot(&b, params.capacity, get_global_id(0), shadowPixel, splatRadiance);
+    if (slot >= 0)
+        atomic_add_vec3(splatRadiance, shadowPixel[slot], load_vec3(shadowContribution, slot));
 }
 
 __kernel void trace_connections(RENDER_KERNEL_PARAMS)

@@ -148,9 +148,7 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[QUEUE_SCRATCH_INTS];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
-    prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
-    prefetch_shade_outputs(&b, params.capacity, QUEUE_HITS, get_global_id(0));
-    int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
+    int slot = shade_slot(&b, params.capacity, get_global_id(0));
     LightHitResult r;
     r.alive = r.shadowRay = r.storeVertex = 0;
     int rejected = 0;

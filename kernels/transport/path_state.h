@@ -167,4 +167,14 @@ INLINE void prefetch_hit_state(const RenderBuffers* b, int capacity, int queue, 
 #endif
 }
 
+/* The path slot that work-item i of a shade kernel takes from the hit queue
+ * (-1 past its end), after the hints for the entries ahead: their hit and
+ * path state, and the lines that continuing a path writes. */
+INLINE int shade_slot(const RenderBuffers* b, int capacity, int i)
+{
+    prefetch_hit_state(b, capacity, QUEUE_HITS, i);
+    prefetch_shade_outputs(b, capacity, QUEUE_HITS, i);
+    return queue_item(b->queueItems, b->queueCounters, capacity, QUEUE_HITS, i);
+}
+
 #endif
