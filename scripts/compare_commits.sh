@@ -13,7 +13,7 @@
 #     iterations up to thousands where fireflies fall on different pixels);
 #   - the ratio of the two images' means, ~1 when either holds.
 # Usage: scripts/compare_commits.sh [BEFORE] ; settings from the environment:
-#   SCENES="scenes/cornell-box.gltf scenes/caustics.gltf"  ALGORITHMS="pt bpt vcm"
+#   SCENES="scenes/cornell-box.gltf scenes/caustics.gltf"  ALGORITHMS="pt lt bpt ppm bpm vcm"
 #   SECONDS_EACH=10  SPP=4  WIDTH=512  HEIGHT=512  DEVICE=pthread  MAX_PATH_LENGTH=10  REPEATS=1
 set -euo pipefail
 cd "$(dirname "$0")/.."
