@@ -57,6 +57,7 @@ namespace wv {
     X(__global, float, hitT, 1)                                                                            \
     X(__global, int, hitTriangle, 1)                                                                       \
     X(__global, float2, hitBary, 1)                                                                        \
+    X(__global, int, queryBuckets, 8)        /* vcm: the hit's merge query (transport/merge_query.h) */   \
     X(__global, float4, shadowOrigins, 1)                                                                  \
     X(__global, float4, shadowDirections, 1) /* w = tMax */                                                \
     X(__global, float4, shadowContribution, 1)                                                             \

@@ -25,6 +25,7 @@
 #include "lights/lights.h"
 #include "materials/surface_bsdf.h"
 #include "transport/camera_vertex.h"
+#include "transport/merge_query.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
@@ -151,6 +152,10 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
             material_has_nondelta(&materials[triMaterials[hitTriangle[slot]]]))
             last = lightPathHead[pathPixel[slot] - params.firstLightPath];
     }
+#if !defined(VERTEX_MERGING_ONLY) && !defined(LIGHT_TRACING)
+    if (slot >= 0 && params.mergeRadius > 0.0f) /* vcm */
+        store_merge_query(&b, params.mergeRadius, params.cellCount, slot);
+#endif
     int rejected = 0;
 #ifdef CONNECTION_QUEUE
     /* An entry for each light vertex that fits: at most the path's stored

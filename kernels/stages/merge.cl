@@ -7,13 +7,15 @@
  * vertex: the light vertices' density on the surface already carries it
  * (with a shading normal, the ratio of its cosine to the geometric one).
  * Each candidate is one cache line (MergeVertex), its bucket's candidates
- * one after another. */
+ * one after another. Under vcm the query's buckets come from
+ * connect_vertices (transport/merge_query.h). */
 #include "core/nan_policy.h"
 #include "core/prefetch.h"
 #include "core/queues.h"
 #include "geometry/surface.h"
 #include "transport/camera_vertex.h"
 #include "transport/hash_grid.h"
+#include "transport/merge_query.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
@@ -22,6 +24,9 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
     prefetch_pixel(&b, params.capacity, QUEUE_HITS, get_global_id(0), mergingRadiance);
+#ifndef VERTEX_MERGING_ONLY
+    prefetch_merge_queries(&b, params.capacity, get_global_id(0));
+#endif
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot < 0)
         return;
@@ -33,6 +38,7 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
         return;
     float radius2 = params.mergeRadius * params.mergeRadius;
     int buckets[8];
+#ifdef VERTEX_MERGING_ONLY
     grid_query_buckets(to_float3(cv.hit.p), 2.0f * params.mergeRadius, params.cellCount, buckets);
     /* Hints for the scan below: the buckets' starts, then each bucket's first
      * record. Both lie anywhere in the grid; hinted together, their cache
@@ -41,6 +47,10 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
         PREFETCH(&bucketStarts[buckets[k]], 4); /* its end, the next int, shares the line 15 times in 16 */
     for (int k = 0; k < 8; ++k)
         PREFETCH(&bucketVertices[bucketStarts[buckets[k]]], 16);
+#else
+    for (int k = 0; k < 8; ++k)
+        buckets[k] = queryBuckets[8 * slot + k];
+#endif
     int depth = hit_depth(pathDepth, slot);
 
     vec3 sum = v3s(0.0f);
