@@ -1,7 +1,9 @@
 // The sampler (kernels/core/rng.h): at the stratified bounces each sample's
 // sequence over iterations is stratified in both of its 2-D pairs at every
-// power of two; deeper bounces draw independent numbers; draws are uniform
-// and independent across iterations, samples, pairs, bounces and blocks.
+// power of two; deeper bounces, and hashed blocks (light paths without
+// vertex connection) at every bounce, draw independent numbers; draws are
+// uniform and independent across iterations, samples, pairs, bounces and
+// blocks.
 // All draws are deterministic, so each test passes or fails the same way
 // every run; the tolerances say how unlikely a failure of a truly uniform,
 // independent generator would be.
@@ -22,6 +24,7 @@ using Draw = std::array<float, 4>; // x, y, z, w
 
 struct Request {
     uint32_t seed = 7, first = 0, iterationStep = 1, firstSample = 0, sampleStep = 0, bounce = 0, block = 0;
+    uint32_t hashed = 0; // rng_hashed_uniform4 instead of rng_uniform4
 };
 
 std::vector<Draw> draws(DeviceContext& device, const cl::Program& program, Request r, int n)
@@ -29,7 +32,7 @@ std::vector<Draw> draws(DeviceContext& device, const cl::Program& program, Reque
     cl::Buffer out = deviceBuffer(device, size_t(n) * sizeof(Draw), "draws");
     cl::Kernel k(program, "sampler_draws");
     int arg = 0;
-    for (uint32_t v : {r.seed, r.first, r.iterationStep, r.firstSample, r.sampleStep, r.bounce, r.block})
+    for (uint32_t v : {r.seed, r.first, r.iterationStep, r.firstSample, r.sampleStep, r.bounce, r.block, r.hashed})
         k.setArg(arg++, v);
     k.setArg(arg++, n);
     k.setArg(arg++, out);
@@ -106,34 +109,48 @@ TEST(Sampler, StratifiedAtEveryPowerOfTwo)
     });
 }
 
-// Past the stratified bounces, one sample's draws along 65,536 iterations
+// One sample's draws along 65,536 iterations (r and r at the next bounce)
 // are uniform in every pair of dimensions, independent of the next bounce's,
 // and independent numbers, not a net: 2^8 independent points leave about
 // 256/e ≈ 94 of a 16 × 16 grid's cells empty (standard deviation ≈ 5), a
 // net none.
+void expectIndependent(DeviceContext& device, const cl::Program& program, Request r)
+{
+    Request next = r;
+    next.bounce = r.bounce + 1;
+    std::vector<Draw> d = draws(device, program, r, 1 << 16), e = draws(device, program, next, 1 << 16);
+    for (int c = 0; c < 4; ++c)
+        EXPECT_LT(chiSquare(d, c, e, c, 16), chiSquareBound(16))
+            << "dimension " << c << " at bounces " << r.bounce << " and " << r.bounce + 1;
+    for (auto [cx, cy] :
+         {std::pair{0, 1}, std::pair{1, 2}, std::pair{2, 3}, std::pair{0, 3}, std::pair{0, 2}, std::pair{1, 3}})
+        EXPECT_LT(chiSquare(d, cx, d, cy, 16), chiSquareBound(16))
+            << "bounce " << r.bounce << ", dimensions " << cx << ", " << cy;
+    for (auto [cx, cy] : {std::pair{1, 2}, std::pair{0, 3}}) {
+        std::set<uint64_t> cells;
+        for (size_t i = 0; i < 256; ++i)
+            cells.insert(uint64_t(d[i][cx] * 16) << 32 | uint64_t(d[i][cy] * 16));
+        EXPECT_GT(256 - cells.size(), 60u)
+            << "bounce " << r.bounce << ": the first 256 draws are stratified in " << cx << ", " << cy;
+    }
+}
+
 TEST(Sampler, IndependentPastTheStratifiedBounces)
 {
     test::onEveryDevice("sampler_tests.cl", [](DeviceContext& device, const cl::Program& program) {
     uint32_t stratified = stratifiedBounces(device, program);
-    for (uint32_t bounce : {stratified, stratified + 1, 9u}) {
-        Request r{7, 0, 1, 4242, 0, bounce, 1}, next = r;
-        next.bounce = bounce + 1;
-        std::vector<Draw> d = draws(device, program, r, 1 << 16), e = draws(device, program, next, 1 << 16);
-        for (int c = 0; c < 4; ++c)
-            EXPECT_LT(chiSquare(d, c, e, c, 16), chiSquareBound(16))
-                << "dimension " << c << " at bounces " << bounce << " and " << bounce + 1;
-        for (auto [cx, cy] : {std::pair{0, 1}, std::pair{1, 2}, std::pair{2, 3}, std::pair{0, 3}, std::pair{0, 2},
-                              std::pair{1, 3}})
-            EXPECT_LT(chiSquare(d, cx, d, cy, 16), chiSquareBound(16)) << "bounce " << bounce << ", dimensions "
-                                                                       << cx << ", " << cy;
-        for (auto [cx, cy] : {std::pair{1, 2}, std::pair{0, 3}}) {
-            std::set<uint64_t> cells;
-            for (size_t i = 0; i < 256; ++i)
-                cells.insert(uint64_t(d[i][cx] * 16) << 32 | uint64_t(d[i][cy] * 16));
-            EXPECT_GT(256 - cells.size(), 60u)
-                << "bounce " << bounce << ": the first 256 draws are stratified in " << cx << ", " << cy;
-        }
-    }
+    for (uint32_t bounce : {stratified, stratified + 1, 9u})
+        expectIndependent(device, program, Request{7, 0, 1, 4242, 0, bounce, 1});
+    });
+}
+
+// Hashed blocks (light paths of lt, ppm and bpm) are independent numbers at
+// the stratified bounces too.
+TEST(Sampler, HashedBlocksIndependentAtEveryBounce)
+{
+    test::onEveryDevice("sampler_tests.cl", [](DeviceContext& device, const cl::Program& program) {
+    for (uint32_t bounce : {0u, 1u})
+        expectIndependent(device, program, Request{7, 0, 1, 4242, 0, bounce, 2, 1});
     });
 }
 

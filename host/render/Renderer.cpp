@@ -45,6 +45,7 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
     if (bidirectional) options += " -DBIDIRECTIONAL";
     if (algorithm == Algorithm::LightTracing) options += " -DLIGHT_TRACING";
     if (mergingOnly) options += " -DVERTEX_MERGING_ONLY";
+    if (bidirectional && !mergingOnly && algorithm != Algorithm::LightTracing) options += " -DVERTEX_CONNECTION";
     if (algorithm == Algorithm::ProgressivePhotonMapping) options += " -DPPM";
     if (connectionQueue) options += " -DCONNECTION_QUEUE";
     return options;

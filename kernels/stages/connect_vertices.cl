@@ -152,7 +152,7 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
             material_has_nondelta(&materials[triMaterials[hitTriangle[slot]]]))
             last = lightPathHead[pathPixel[slot] - params.firstLightPath];
     }
-#if !defined(VERTEX_MERGING_ONLY) && !defined(LIGHT_TRACING)
+#ifdef VERTEX_CONNECTION
     if (slot >= 0 && params.mergeRadius > 0.0f) /* vcm */
         store_merge_query(&b, params.mergeRadius, params.cellCount, slot);
 #endif

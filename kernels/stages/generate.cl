@@ -84,8 +84,8 @@ __kernel void generate_light(RENDER_KERNEL_PARAMS)
     if (slot < 0)
         return;
     uint index = sample_index(&params, lightPath), pixel = (uint)sample_pixel(&params, lightPath);
-    Uniform4 u = rng_uniform4(params.seed, index, pixel, 0u, 2u);
-    Uniform4 v = rng_uniform4(params.seed, index, pixel, 0u, 3u);
+    Uniform4 u = rng_light_uniform4(params.seed, index, pixel, 0u, 2u);
+    Uniform4 v = rng_light_uniform4(params.seed, index, pixel, 0u, 3u);
     EmissionSample e;
     Ray ray;
     vec3 beta = v3s(0.0f); /* a failed sample travels with nothing to carry and stores nothing */

@@ -38,7 +38,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
     int sample = b->pathPixel[slot], pixel = sample_pixel(params, sample);
     uint index = sample_index(params, sample);
     /* The random numbers first, as in shade.cl. */
-#if !defined(LIGHT_TRACING) && !defined(VERTEX_MERGING_ONLY)
+#ifdef VERTEX_CONNECTION
     Uniform4 uLight = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 0u);
 #endif
 #ifndef LIGHT_TRACING
@@ -80,7 +80,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
     alive = alive && !bsdf_has_nondelta(&bsdf);
 #endif
 
-#ifndef VERTEX_MERGING_ONLY
+#ifdef VERTEX_CONNECTION
     if (alive && b->scene->lightCount > 0 && bsdf_has_nondelta(&bsdf)) {
         LightSample ls;
         if (sample_scene_light(b, hit.p, uLight, &ls)) {

@@ -62,8 +62,8 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     int depth = hit_depth(b->pathDepth, slot);
     int lightPath = b->pathPixel[slot];
     /* The random numbers first, as in shade.cl. */
-    Uniform4 u = rng_uniform4(params->seed, sample_index(params, lightPath), (uint)sample_pixel(params, lightPath),
-                              (uint)depth, 3u);
+    Uniform4 u = rng_light_uniform4(params->seed, sample_index(params, lightPath),
+                                    (uint)sample_pixel(params, lightPath), (uint)depth, 3u);
     int tri = b->hitTriangle[slot];
     vec2 bary = load_vec2(b->hitBary, slot);
     vec3 wLight = v3_neg(load_vec3(b->rayDirections, slot)); /* back along the light path */

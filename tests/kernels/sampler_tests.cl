@@ -1,15 +1,17 @@
-/* Test-only kernel for core/rng.h: the draws rng_uniform4 gives work-item i,
- * which is iteration first + i·iterationStep of sample firstSample +
- * i·sampleStep (one of the steps 0). */
+/* Test-only kernel for core/rng.h: the draws rng_uniform4 (or, if hashed,
+ * rng_hashed_uniform4) gives work-item i, which is iteration first +
+ * i·iterationStep of sample firstSample + i·sampleStep (one of the steps 0). */
 #include "core/rng.h"
 
 __kernel void sampler_draws(uint seed, uint first, uint iterationStep, uint firstSample, uint sampleStep,
-                            uint bounce, uint block, int n, __global float4* out)
+                            uint bounce, uint block, uint hashed, int n, __global float4* out)
 {
     int i = get_global_id(0);
     if (i >= n)
         return;
-    Uniform4 u = rng_uniform4(seed, first + (uint)i * iterationStep, firstSample + (uint)i * sampleStep, bounce, block);
+    uint iteration = first + (uint)i * iterationStep, sample = firstSample + (uint)i * sampleStep;
+    Uniform4 u = hashed ? rng_hashed_uniform4(seed, iteration, sample, bounce, block)
+                        : rng_uniform4(seed, iteration, sample, bounce, block);
     out[i] = (float4)(u.x, u.y, u.z, u.w);
 }
 
