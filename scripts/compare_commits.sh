@@ -17,9 +17,6 @@
 #   SECONDS_EACH=10  SPP=4  WIDTH=512  HEIGHT=512  DEVICE=pthread  MAX_PATH_LENGTH=10  REPEATS=1
 set -euo pipefail
 cd "$(dirname "$0")/.."
-root=$(pwd)
-before=${1:-HEAD}
-sha=$(git rev-parse --short=10 "$before")
 scenes=${SCENES:-scenes/cornell-box.gltf scenes/caustics.gltf}
 algorithms=${ALGORITHMS:-pt lt bpt ppm bpm vcm}
 seconds=${SECONDS_EACH:-10}
@@ -30,17 +27,8 @@ device=${DEVICE:-pthread}
 maxlen=${MAX_PATH_LENGTH:-10}
 repeats=${REPEATS:-1}
 
-tree="$root/../wavevcm-$sha"
-if [ ! -d "$tree" ]; then
-  git worktree add --detach "$tree" "$sha" >&2
-fi
-echo "compare: building $sha in $tree" >&2
-cmake -S "$tree" -B "$tree/build" -DCMAKE_BUILD_TYPE=Release -DWAVEVCM_EMBREE=OFF >/dev/null
-cmake --build "$tree/build" --target wavevcm -j"$(nproc)" >/dev/null
-echo "compare: building this tree" >&2
-cmake --build build --target wavevcm -j"$(nproc)" >/dev/null
-old="$tree/build/wavevcm"
-new="$root/build/wavevcm"
+old=$(scripts/build_commit.sh "${1:-HEAD}")
+new=$(scripts/build_commit.sh)
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -82,6 +82,13 @@ TEST(ImageMetrics, KnownDifferences)
     EXPECT_NEAR(d.rmse, 0.1, 1e-6);
     EXPECT_NEAR(d.relMse, 0.01 / 1.01, 1e-6);
     EXPECT_NEAR(d.meanRatio, 1.1, 1e-6);
+    EXPECT_NEAR(d.tonemappedMse, std::pow(1.1 / 2.1 - 0.5, 2), 1e-9);
+    // A firefly: relMSE grows with its square, the tone-mapped error stays below 1 / pixels.
+    test.rgb = ref.rgb;
+    test.rgb[0] = 1e4f;
+    d = compareImages(test, ref);
+    EXPECT_GT(d.relMse, 1e5);
+    EXPECT_LT(d.tonemappedMse, 0.25 / 48 + 1e-9);
     d = compareImages(ref, ref);
     EXPECT_EQ(d.rmse, 0.0);
     EXPECT_EQ(d.meanRatio, 1.0);

@@ -242,18 +242,21 @@ ImageDifference compareImages(const Image& test, const Image& reference)
     if (test.width != reference.width || test.height != reference.height)
         throw Error("image sizes differ: " + std::to_string(test.width) + "x" + std::to_string(test.height) +
                     " vs " + std::to_string(reference.width) + "x" + std::to_string(reference.height));
-    double se = 0, rel = 0, sumTest = 0, sumRef = 0;
+    double se = 0, rel = 0, tonemapped = 0, sumTest = 0, sumRef = 0;
     size_t n = test.rgb.size();
     for (size_t i = 0; i < n; ++i) {
         double t = test.rgb[i], r = reference.rgb[i], d = t - r;
         se += d * d;
         rel += d * d / (r * r + 0.01);
+        double dt = t / (1 + std::fabs(t)) - r / (1 + std::fabs(r));
+        tonemapped += dt * dt;
         sumTest += t;
         sumRef += r;
     }
     ImageDifference out;
     out.rmse = std::sqrt(se / double(n));
     out.relMse = rel / double(n);
+    out.tonemappedMse = tonemapped / double(n);
     out.meanRatio = sumRef > 0 ? sumTest / sumRef : (sumTest == 0 ? 1.0 : INFINITY);
     return out;
 }
