@@ -8,6 +8,7 @@
 // every run; the tolerances say how unlikely a failure of a truly uniform,
 // independent generator would be.
 #include "TestDevices.h"
+#include "render/Renderer.h"
 #include "render/SceneBuffers.h"
 
 #include <gtest/gtest.h>
@@ -152,6 +153,41 @@ TEST(Sampler, HashedBlocksIndependentAtEveryBounce)
     for (uint32_t bounce : {0u, 1u})
         expectIndependent(device, program, Request{7, 0, 1, 4242, 0, bounce, 2, 1});
     });
+}
+
+// Light paths' emission draws are stratified under vertex connection (bpt,
+// vcm: light path p is the one camera sample p connects to) and independent
+// under lt, ppm and bpm, with each algorithm's own program options: the
+// first 256 iterations' (y, z) are a net, or leave about 94 of the 16 × 16
+// cells empty (more than 60, as above).
+TEST(Sampler, LightPathsStratifiedOnlyUnderVertexConnection)
+{
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
+        SCOPED_TRACE(info.name);
+        DeviceContext device(info);
+        for (Algorithm a : {Algorithm::LightTracing, Algorithm::Bidirectional, Algorithm::ProgressivePhotonMapping,
+                            Algorithm::BidirectionalPhotonMapping, Algorithm::VertexConnectionMerging}) {
+            bool connects = a == Algorithm::Bidirectional || a == Algorithm::VertexConnectionMerging;
+            cl::Program program = test::buildTestProgram(device, {test::testKernel("sampler_tests.cl")},
+                                                         Renderer::programOptions(a, SceneFeatures{}, 1));
+            const int n = 256;
+            cl::Buffer out = deviceBuffer(device, n * sizeof(Draw), "light draws");
+            cl::Kernel k(program, "sampler_light_draws");
+            k.setArg(0, 7u);
+            k.setArg(1, 0u);
+            k.setArg(2, n);
+            k.setArg(3, out);
+            device.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(test::launchSize(n)), cl::NDRange(64));
+            std::vector<Draw> d(n);
+            device.queue.enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(Draw), d.data());
+            std::set<uint64_t> cells;
+            for (const Draw& u : d) cells.insert(uint64_t(u[1] * 16) << 32 | uint64_t(u[2] * 16));
+            if (connects)
+                EXPECT_TRUE(isNet(d, 1, 2, 0, 8)) << algorithmName(a) << ": stratified emission";
+            else
+                EXPECT_GT(n - int(cells.size()), 60) << algorithmName(a) << ": independent emission";
+        }
+    }
 }
 
 // At one iteration, 65,536 samples' draws are uniform in each pair of
