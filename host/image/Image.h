@@ -55,8 +55,8 @@ struct ImageDifference {
     double rmse = 0;      // sqrt(mean over pixels and channels of (t − r)²)
     double relMse = 0;    // mean of (t − r)² / (r² + 0.01), per channel
     double meanRatio = 0; // mean(test) / mean(reference)
-    // mean of (t/(1+t) − r/(1+r))², per channel: the error of tone-mapped
-    // values, which a few fireflies do not dominate as they do relMSE
+    // mean of (t/(1+|t|) − r/(1+|r|))², per channel: the error of
+    // tone-mapped values, which a few fireflies do not dominate as they do relMSE
     double tonemappedMse = 0;
 };
 
