@@ -24,7 +24,7 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     prefetch_hit_state(&b, params.capacity, QUEUE_HITS, get_global_id(0));
     prefetch_pixel(&b, params.capacity, QUEUE_HITS, get_global_id(0), mergingRadiance);
-#ifndef VERTEX_MERGING_ONLY
+#ifdef VERTEX_CONNECTION
     prefetch_merge_queries(&b, params.capacity, get_global_id(0));
 #endif
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
@@ -38,7 +38,10 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
         return;
     float radius2 = params.mergeRadius * params.mergeRadius;
     int buckets[8];
-#ifdef VERTEX_MERGING_ONLY
+#ifdef VERTEX_CONNECTION /* vcm: stored by connect_vertices */
+    for (int k = 0; k < 8; ++k)
+        buckets[k] = queryBuckets[8 * slot + k];
+#else
     grid_query_buckets(to_float3(cv.hit.p), 2.0f * params.mergeRadius, params.cellCount, buckets);
     /* Hints for the scan below: the buckets' starts, then each bucket's first
      * record. Both lie anywhere in the grid; hinted together, their cache
@@ -47,9 +50,6 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
         PREFETCH(&bucketStarts[buckets[k]], 4); /* its end, the next int, shares the line 15 times in 16 */
     for (int k = 0; k < 8; ++k)
         PREFETCH(&bucketVertices[bucketStarts[buckets[k]]], 16);
-#else
-    for (int k = 0; k < 8; ++k)
-        buckets[k] = queryBuckets[8 * slot + k];
 #endif
     int depth = hit_depth(pathDepth, slot);
 
