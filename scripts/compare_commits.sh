@@ -12,6 +12,8 @@
 #     float rounding, a changed sampling shows as noise-level relMSE (at 4
 #     iterations up to thousands where fireflies fall on different pixels);
 #   - the ratio of the two images' means, ~1 when either holds.
+# Where a change alters the sampling, compare_error.sh measures what matters:
+# the error at equal iterations over many seeds.
 # Usage: scripts/compare_commits.sh [BEFORE] ; settings from the environment:
 #   SCENES="scenes/cornell-box.gltf scenes/caustics.gltf"  ALGORITHMS="pt lt bpt ppm bpm vcm"
 #   SECONDS_EACH=10  SPP=4  WIDTH=512  HEIGHT=512  DEVICE=pthread  MAX_PATH_LENGTH=10  REPEATS=1
