@@ -3,8 +3,9 @@
 //   Extend/Connect   rays/s, on coherent camera rays and on incoherent rays
 //                    (random origins inside the scene, random directions);
 //                    with Embree found at build time, the same rays traced by
-//                    Embree too: counters embree_rays_per_s, vs_embree
-//                    (wavevcm's mean rate / Embree's) and embree_mismatch (fraction
+//                    Embree too, after each of wavevcm's launches: counters
+//                    embree_rays_per_s, vs_embree (the median over the launches
+//                    of wavevcm's rate / Embree's) and embree_mismatch (fraction
 //                    of rays whose hit or occlusion differs);
 //   Kernel/<name>    the render kernels inside real iterations, from OpenCL
 //                    profiling events: path slots/s for generate and the
@@ -30,6 +31,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -160,7 +162,16 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
     device.queue.enqueueWriteBuffer(counterBuffer, CL_FALSE, 0, counters.size() * 4, counters.data());
     device.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(64));
     device.queue.finish();
-    double seconds = 0;
+#ifdef WAVEVCM_HAVE_EMBREE
+    // Embree traces the same rays after each of wavevcm's launches, so that
+    // both see the machine in the same state: its speed drifts by 10-20 %
+    // over seconds, which made the ratio of two separately timed means move
+    // by as much. vs_embree is the median of the paired ratios.
+    std::vector<float> reference;
+    f.embree().trace(origins, directions, anyHit, &reference); // warm-up
+    std::vector<double> pairedRatios;
+    double embreeSeconds = 0;
+#endif
     for (auto _ : state) {
         // extend pushes to the hit/escaped queues: reset their counters.
         device.queue.enqueueWriteBuffer(counterBuffer, CL_FALSE, 0, counters.size() * 4, counters.data());
@@ -169,20 +180,18 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
         device.queue.finish();
         double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         state.SetIterationTime(s);
-        seconds += s;
+#ifdef WAVEVCM_HAVE_EMBREE
+        double e = f.embree().trace(origins, directions, anyHit, &reference);
+        embreeSeconds += e;
+        pairedRatios.push_back(e / s);
+#endif
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(n));
 #ifdef WAVEVCM_HAVE_EMBREE
-    // Embree on the same rays: the mean of as many runs as wavevcm had
-    // (at least three), against wavevcm's mean, after one warm-up run.
-    std::vector<float> reference;
-    f.embree().trace(origins, directions, anyHit, &reference);
-    int64_t runs = std::max<int64_t>(3, int64_t(state.iterations()));
-    double embreeSeconds = 0;
-    for (int64_t run = 0; run < runs; ++run) embreeSeconds += f.embree().trace(origins, directions, anyHit, &reference);
-    double embreeRate = double(runs) * double(n) / embreeSeconds;
-    state.counters["embree_rays_per_s"] = embreeRate;
-    state.counters["vs_embree"] = double(state.iterations()) * double(n) / seconds / embreeRate;
+    std::sort(pairedRatios.begin(), pairedRatios.end());
+    size_t m = pairedRatios.size();
+    state.counters["embree_rays_per_s"] = double(m) * double(n) / embreeSeconds;
+    state.counters["vs_embree"] = m % 2 ? pairedRatios[m / 2] : 0.5 * (pairedRatios[m / 2 - 1] + pairedRatios[m / 2]);
     // Where the two disagree: hit versus miss, or a distance off by more than
     // float rounding over the traversal (relative 1e-4).
     std::vector<float> ours(n);
@@ -200,8 +209,6 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
             ++mismatches;
     }
     state.counters["embree_mismatch"] = double(mismatches) / double(n);
-#else
-    (void)seconds;
 #endif
 }
 
