@@ -75,11 +75,20 @@ struct BinaryNode {
 // leaves of packets: a ray into a box of area A visits a wide node there at
 // cost A · kNodeVisitCost, or tests a leaf's p packets at A · p ·
 // kPacketTestCost. The least total over every way of collapsing the binary
-// tree is found bottom up, as each binary node is finished (planWide). Equal
-// costs: on the AMD EPYC machine a visit takes ~50 instructions and ~15 per
-// child it pushes, a packet test ~90, and weights of 0.5 for a visit, 0.2 per
-// child, 1 per packet gave the same trees' instruction counts to 0.1 %.
-constexpr float kNodeVisitCost = 1.0f;
+// tree is found bottom up, as each binary node is finished (planWide).
+// Weighted by time, not instructions: a visit takes ~50 instructions to a
+// packet test's ~90, but it waits on its node's lines before the next visit
+// can start and mispredicts on which children were hit, where a leaf's
+// packets lie one after another and their tests are straight-line code. On
+// the Intel AVX-512 machine (wavevcm_bench, incoherent rays, paired against
+// Embree), a visit weighted 8 packet tests instead of 1 took the 1M-triangle
+// displaced sphere from 56,364 nodes (12.6 MB) to 11,986 (2.7 MB; the L2
+// cache holds 2 MB per core) and from 0.73-0.79x Embree's rate to 1.00-1.03x (closest hit)
+// and 0.67-0.73x to 0.84-0.89x (any hit), the 130K box from 0.84-0.89x to
+// 1.00-1.10x and 0.85x to 0.93-1.00x; small scenes, whose trees are in the
+// cache either way, unchanged. Weights 4 and 6 gained less on the 1M
+// sphere, 12 and 16 lost some again.
+constexpr float kNodeVisitCost = 8.0f;
 constexpr float kPacketTestCost = 1.0f;
 
 // A box's surface area in double (where the float one may overflow), times `scale`.
