@@ -81,13 +81,13 @@ struct BinaryNode {
 // can start and mispredicts on which children were hit, where a leaf's
 // packets lie one after another and their tests are straight-line code. On
 // the Intel AVX-512 machine (wavevcm_bench, incoherent rays, paired against
-// Embree), a visit weighted 8 packet tests instead of 1 took the 1M-triangle
-// displaced sphere from 56,364 nodes (12.6 MB) to 11,986 (2.7 MB; the L2
-// cache holds 2 MB per core) and from 0.73-0.79x Embree's rate to 1.00-1.03x (closest hit)
-// and 0.67-0.73x to 0.84-0.89x (any hit), the 130K box from 0.84-0.89x to
-// 1.00-1.10x and 0.85x to 0.93-1.00x; small scenes, whose trees are in the
-// cache either way, unchanged. Weights 4 and 6 gained less on the 1M
-// sphere, 12 and 16 lost some again.
+// Embree), a visit weighted 8 packet tests instead of 1 took the
+// 1M-triangle displaced sphere from 56,364 nodes (12.6 MB) to 11,986
+// (2.7 MB; the L2 cache holds 2 MB per core) and from 0.73-0.79x Embree's
+// rate to 1.00-1.03x (closest hit) and 0.67-0.73x to 0.84-0.89x (any hit),
+// the 130K box from 0.84-0.89x to 1.00-1.10x and 0.85x to 0.93-1.00x; small
+// scenes, whose trees are in the cache either way, unchanged. Weights 4 and
+// 6 gained less on the 1M sphere, 12 and 16 lost some again.
 constexpr float kNodeVisitCost = 8.0f;
 constexpr float kPacketTestCost = 1.0f;
 
