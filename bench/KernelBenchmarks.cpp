@@ -265,7 +265,8 @@ void BM_HashGridBuild(benchmark::State& state)
     Fixture& f = Fixture::get();
     DeviceContext device(f.device);
     std::string source = expandKernelSources(findKernelDir(), {"stages/hash_grid.cl"});
-    cl::Program program = buildProgram(device.context, f.device, source, "-cl-std=CL1.2").program;
+    // vcm's build: from LightVertex records (StoredLightVertex).
+    cl::Program program = buildProgram(device.context, f.device, source, "-cl-std=CL1.2 -DVERTEX_CONNECTION").program;
     size_t n = size_t(state.range(0));
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(0, 1);

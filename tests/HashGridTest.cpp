@@ -21,20 +21,33 @@ struct Case {
     float radius;
 };
 
-void checkCase(const DeviceInfo& info, const Case& c)
+// The grid built from the light-vertex buffer as each algorithm stores it:
+// LightVertex records under vertex connection (bpt, vcm), merging's own
+// MergeVertex records with merging only (ppm, bpm).
+void checkCase(const DeviceInfo& info, const Case& c, bool vertexConnection)
 {
-    SCOPED_TRACE(std::string(c.what) + " on " + info.name);
+    SCOPED_TRACE(std::string(c.what) + (vertexConnection ? ", LightVertex records" : ", MergeVertex records") +
+                 " on " + info.name);
     DeviceContext device(info);
-    cl::Program program = test::buildTestProgram(device, {"stages/hash_grid.cl", test::testKernel("grid_tests.cl")});
+    cl::Program program = test::buildTestProgram(device, {"stages/hash_grid.cl", test::testKernel("grid_tests.cl")},
+                                                 vertexConnection ? "-DVERTEX_CONNECTION" : "");
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(-c.spread, c.spread), cluster(-3 * c.radius, 3 * c.radius);
-    std::vector<LightVertex> vertices(size_t(c.vertices));
+    std::vector<LightVertex> lightVertices(vertexConnection ? size_t(c.vertices) : 0);
+    std::vector<MergeVertex> mergeVertices(vertexConnection ? 0 : size_t(c.vertices));
     std::vector<Vec3> positions;
     for (int i = 0; i < c.vertices; ++i) {
         Vec3 p = i % 2 ? Vec3(u(rng), u(rng), u(rng)) : Vec3(0.3f, -0.7f, 0.1f) + Vec3(cluster(rng), cluster(rng), cluster(rng));
-        vertices[i] = LightVertex{};
-        for (int a = 0; a < 3; ++a) vertices[i].surface.position[a] = p[a];
-        vertices[i].pathLength = i; // the grid copies it: the query kernel sums it as the vertex's index
+        // The grid copies pathLength: the query kernel sums it as the vertex's index.
+        if (vertexConnection) {
+            lightVertices[i] = LightVertex{};
+            for (int a = 0; a < 3; ++a) lightVertices[i].surface.position[a] = p[a];
+            lightVertices[i].pathLength = i;
+        } else {
+            mergeVertices[i] = MergeVertex{};
+            for (int a = 0; a < 3; ++a) mergeVertices[i].position[a] = p[a];
+            mergeVertices[i].pathLength = i;
+        }
         positions.push_back(p);
     }
     // Queries: near vertices (within ~r), and anywhere.
@@ -45,9 +58,12 @@ void checkCase(const DeviceInfo& info, const Case& c)
                        : Vec3(u(rng), u(rng), u(rng));
         queries.push_back({x.x, x.y, x.z, 0});
     }
-    cl::Buffer vertexBuffer = uploadBuffer(device, vertices.data(), vertices.size() * sizeof(LightVertex), "vertices");
+    cl::Buffer vertexBuffer =
+        vertexConnection
+            ? uploadBuffer(device, lightVertices.data(), lightVertices.size() * sizeof(LightVertex), "vertices")
+            : uploadBuffer(device, mergeVertices.data(), mergeVertices.size() * sizeof(MergeVertex), "vertices");
     HashGrid grid(device, program);
-    grid.reserve(vertices.size());
+    grid.reserve(size_t(c.vertices));
     grid.build(vertexBuffer, c.vertices, c.radius);
 
     size_t n = queries.size();
@@ -102,7 +118,8 @@ TEST(HashGrid, RangeQueriesMatchBruteForce)
         {"hash collisions", 1000, 1.0f, 0.001f},
     };
     for (const DeviceInfo& info : test::devicesUnderTest())
-        for (const Case& c : cases) checkCase(info, c);
+        for (const Case& c : cases)
+            for (bool vertexConnection : {true, false}) checkCase(info, c, vertexConnection);
 }
 
 } // namespace

@@ -27,8 +27,9 @@ public:
     // place in it, and up to two buckets' starts.
     static constexpr size_t kBytesPerVertex = sizeof(MergeVertex) + 2 * sizeof(int) + 2 * sizeof(int);
 
-    // Enqueues the build over vertices[0, count) of a LightVertex buffer for
-    // query radius `radius`.
+    // Enqueues the build over vertices[0, count) of the light-vertex buffer
+    // (the program's StoredLightVertex records: LightVertex under
+    // VERTEX_CONNECTION, else MergeVertex) for query radius `radius`.
     void build(const cl::Buffer& vertices, int count, float radius);
 
     const cl::Buffer& bucketStarts() const { return bucketStarts_; }     // int[buckets + 1]

@@ -184,9 +184,10 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
         // Light sub-paths, and the light vertices camera paths connect to.
         batch_ = samples_;
         b.lightPathHead = deviceBuffer(device, size_t(samples_) * sizeof(int), "the light path heads");
-        size_t bytesPerVertex = sizeof(LightVertex) + (useVM_ ? HashGrid::kBytesPerVertex : 0) +
+        storedVertexBytes_ = useVC_ ? sizeof(LightVertex) : sizeof(MergeVertex);
+        size_t bytesPerVertex = storedVertexBytes_ + (useVM_ ? HashGrid::kBytesPerVertex : 0) +
                                 (connectionQueue_ ? kBytesPerConnection : 0);
-        vertexBudget_ = std::min<size_t>(device.info.maxAllocation / sizeof(LightVertex),
+        vertexBudget_ = std::min<size_t>(device.info.maxAllocation / storedVertexBytes_,
                                          device.info.globalMemory / 2 / bytesPerVertex);
         if (settings.maxLightVertices > 0) vertexBudget_ = std::min(vertexBudget_, settings.maxLightVertices);
         Phase& l = lightPhase_;
@@ -243,11 +244,11 @@ size_t Renderer::deviceBytes() const
     return sceneBuffers_.bytes + paths_.bytes +
            size_t(pixels_) * (settings_.techniques ? 128 : 80) +
            size_t(pixels_) * 16 * (settings_.samplesPerIteration - 1) * (bidirectional_ ? 3 : 1) +
-           (bidirectional_ ? vertexCapacity_ * sizeof(LightVertex) + size_t(samples_) * sizeof(int) : 0) +
+           (bidirectional_ ? vertexCapacity_ * storedVertexBytes_ + size_t(samples_) * sizeof(int) : 0) +
            (grid_ ? vertexCapacity_ * HashGrid::kBytesPerVertex : 0) + connectionCapacity_ * kBytesPerConnection;
 }
 
-// Makes room for at least `vertices` light vertices (128 bytes each), within
+// Makes room for at least `vertices` light vertices (storedVertexBytes_ each), within
 // the device's limits, and as many entries of the connection queue (a round
 // queues at most one connection per stored vertex: a camera path connects
 // only to its own light path, once per round); the kernels that write and
@@ -257,7 +258,7 @@ void Renderer::ensureLightVertexCapacity(size_t vertices)
     vertices = std::min(vertices, vertexBudget_);
     if (vertices <= vertexCapacity_ && buffers_.lightVertices()) return;
     vertexCapacity_ = vertices;
-    buffers_.lightVertices = deviceBuffer(device_, vertexCapacity_ * sizeof(LightVertex), "the light vertices");
+    buffers_.lightVertices = deviceBuffer(device_, vertexCapacity_ * storedVertexBytes_, "the light vertices");
     params_.vertexCapacity = int(vertexCapacity_);
     if (grid_) {
         grid_->reserve(vertexCapacity_);

@@ -169,6 +169,10 @@ private:
     ProgramBuild build_;
     std::vector<cl::Kernel> kernels_; // every render kernel made, for rebinding buffers
     size_t vertexCapacity_ = 0, vertexBudget_ = 0;
+    // Bytes of one stored light vertex: a LightVertex where camera paths
+    // connect to it, merging's MergeVertex with merging only
+    // (StoredLightVertex in kernels/interface/shared_types.h).
+    size_t storedVertexBytes_ = sizeof(LightVertex);
     bool useVC_ = false, useVM_ = false;
     bool connectionQueue_ = false;
     size_t connectionCapacity_ = 0; // entries of the connection queue's buffers

@@ -77,7 +77,7 @@ namespace wv {
 
 /* The light sub-paths of a batch, for connection and merging. */
 #define LIGHT_PATH_BUFFERS(X)                                                                              \
-    X(__global, LightVertex, lightVertices, 0)                                                             \
+    X(__global, LightVertex, lightVertices, 0) /* ppm, bpm: MergeVertex (StoredLightVertex) */           \
     X(__global, int, lightPathHead, 0)       /* last stored vertex per light path of the batch */          \
     X(__global, int, bucketStarts, 0)        /* hash grid (hash_grid.h): first entry per bucket, +1 */     \
     X(__global, MergeVertex, bucketVertices, 0) /* hash grid: the vertices as merging reads them, bucket order */ \

@@ -154,7 +154,7 @@ typedef struct SurfaceRecord {
     float pad2;
 } SurfaceRecord;
 
-/* A vertex of a light sub-path, stored for vertex connection (and merging):
+/* A vertex of a light sub-path, stored for vertex connection (bpt, vcm):
  * everything a camera vertex needs to connect to it, 128 bytes. Its surface
  * is stored as shade_light built it, not rebuilt from the triangle per
  * connection (that took about a tenth of connect_vertices: README,
@@ -191,6 +191,18 @@ typedef struct MergeVertex {
     float continuation;
     float pad[3];
 } MergeVertex;
+
+#ifdef __OPENCL_C_VERSION__
+/* What the light-vertex buffer holds: LightVertex records where camera
+ * paths connect to them (VERTEX_CONNECTION: bpt, vcm); with merging only
+ * (ppm, bpm) the MergeVertex records that merging reads, half the bytes,
+ * which the hash grid's build then only moves into bucket order. */
+#ifdef VERTEX_CONNECTION
+typedef LightVertex StoredLightVertex;
+#else
+typedef MergeVertex StoredLightVertex;
+#endif
+#endif
 
 /* Scene-wide constants the kernels need besides the arrays. */
 typedef struct SceneInfo {

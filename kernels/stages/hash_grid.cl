@@ -1,5 +1,6 @@
-/* Building the hash grid (hash_grid.h) over the stored light vertices, on
- * the device: count per bucket, exclusive prefix sum, scatter.
+/* Building the hash grid (hash_grid.h) over the stored light vertices
+ * (StoredLightVertex), on the device: count per bucket, exclusive prefix
+ * sum, scatter.
  * The prefix sum works in chunks: each work-item scans its own chunk
  * serially (scan_chunks), one work-item scans the chunk totals (scan_totals),
  * and every chunk adds its offset (scan_add) — no barriers, which CPU
@@ -11,16 +12,25 @@
 
 #define GRID_PREFETCH_DISTANCE 8
 
-/* The bucket of vertex i. */
-INLINE int vertex_bucket(__global const LightVertex* vertices, int i, float cellSize, uint cellCount)
+INLINE __global const float* stored_position(__global const StoredLightVertex* v)
 {
-    return (int)grid_bucket(grid_cell(vload3(0, vertices[i].surface.position), cellSize), cellCount);
+#ifdef VERTEX_CONNECTION
+    return v->surface.position;
+#else
+    return v->position;
+#endif
+}
+
+/* The bucket of vertex i. */
+INLINE int vertex_bucket(__global const StoredLightVertex* vertices, int i, float cellSize, uint cellCount)
+{
+    return (int)grid_bucket(grid_cell(vload3(0, stored_position(&vertices[i])), cellSize), cellCount);
 }
 
 /* Counts each bucket's vertices and keeps, per vertex, its bucket and its
  * place among the bucket's vertices (the count's atomic increment returns
  * it), so the scatter needs neither the hash nor an atomic. */
-__kernel void grid_count(__global const LightVertex* vertices, int count, float cellSize, uint cellCount,
+__kernel void grid_count(__global const StoredLightVertex* vertices, int count, float cellSize, uint cellCount,
                          __global int* bucketCounts, __global int2* vertexPlaces)
 {
     int i = get_global_id(0);
@@ -32,7 +42,7 @@ __kernel void grid_count(__global const LightVertex* vertices, int count, float 
      * prefetcher does not keep up with the 128-byte stride). */
     int ahead = i + GRID_PREFETCH_DISTANCE;
     if (ahead + GRID_PREFETCH_DISTANCE < count)
-        PREFETCH(vertices[ahead + GRID_PREFETCH_DISTANCE].surface.position, 12);
+        PREFETCH(stored_position(&vertices[ahead + GRID_PREFETCH_DISTANCE]), 12);
     if (ahead < count)
         PREFETCH(&bucketCounts[vertex_bucket(vertices, ahead, cellSize, cellCount)], 4);
 #endif
@@ -83,27 +93,34 @@ __kernel void scan_add(__global int* values, int count, int chunk, __global cons
         values[count] = chunkTotals[(count + chunk - 1) / chunk];
 }
 
-/* Each vertex's record to its place: bucket start + its place in the
- * bucket. The records land anywhere in the array; on CPU devices they are
- * written with streaming stores, whole cache lines that need not be read
- * first. */
-__kernel void grid_scatter(__global const LightVertex* vertices, int count, __global const int2* vertexPlaces,
+/* Each vertex's record (MergeVertex) to its place: bucket start + its place
+ * in the bucket. The records land anywhere in the array; on CPU devices they
+ * are written with streaming stores, whole cache lines that need not be
+ * read first. With merging only the stored vertex is that record already
+ * (grid_count 1.3x, grid_scatter 1.5x as fast as from a LightVertex). */
+__kernel void grid_scatter(__global const StoredLightVertex* vertices, int count, __global const int2* vertexPlaces,
                            __global const int* bucketStarts, __global MergeVertex* bucketVertices)
 {
     int i = get_global_id(0);
 #ifdef HAS_PREFETCH
     if (i + GRID_PREFETCH_DISTANCE < count) {
         PREFETCH(&bucketStarts[vertexPlaces[i + GRID_PREFETCH_DISTANCE].x], 4);
-        PREFETCH(&vertices[i + GRID_PREFETCH_DISTANCE], sizeof(LightVertex));
+        PREFETCH(&vertices[i + GRID_PREFETCH_DISTANCE], sizeof(StoredLightVertex));
     }
 #endif
     if (i >= count)
         return;
-    __global const LightVertex* v = &vertices[i];
+    __global const StoredLightVertex* v = &vertices[i];
     int2 place = vertexPlaces[i];
     __global float4* m = (__global float4*)&bucketVertices[bucketStarts[place.x] + place.y];
+#ifdef VERTEX_CONNECTION
     STREAM_STORE((float4)(vload3(0, v->surface.position), as_float(v->pathLength)), m);
     STREAM_STORE((float4)(vload3(0, v->toLight), v->dVCM), m + 1);
     STREAM_STORE((float4)(vload3(0, v->throughput), v->dVM), m + 2);
     STREAM_STORE((float4)(v->continuation, 0.0f, 0.0f, 0.0f), m + 3);
+#else
+    __global const float4* record = (__global const float4*)v;
+    for (int k = 0; k < 4; ++k)
+        STREAM_STORE(record[k], m + k);
+#endif
 }

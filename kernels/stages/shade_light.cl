@@ -2,7 +2,9 @@
  * order (SmallVCM's light pass, vertexcm.hxx),
  *   1. convert the MIS quantities of the last segment to area measure;
  *   2. at a vertex with a non-delta BSDF: store it in the light-vertex buffer
- *      for vertex connection (bpt), and connect it to the camera (t = 1):
+ *      for vertex connection and merging (as StoredLightVertex: a whole
+ *      LightVertex for connection, merging's record for ppm and bpm), and
+ *      connect it to the camera (t = 1):
  *      queue a shadow ray whose contribution `connect_splat` adds to the
  *      pixel the vertex projects to;
  *   3. sample the adjoint BSDF to continue, with Russian roulette by the
@@ -30,26 +32,29 @@
 typedef struct LightHitResult {
     int alive, shadowRay, storeVertex;
 #ifndef PUSH_PER_ITEM
-    LightVertex vertex; /* to store after the group's reservation */
+    StoredLightVertex vertex; /* to store after the group's reservation */
 #endif
 } LightHitResult;
 
 /* Stores vertex v of the light path in `slot` at place `at` of the light
- * vertex buffer, linked after the path's last one. The counter keeps
- * counting past the buffer's end, so the host sees how many vertices were
- * wanted and can retry with room for them; past it nothing is stored. */
+ * vertex buffer; for vertex connection, linked after the path's last one.
+ * The counter keeps counting past the buffer's end, so the host sees how
+ * many vertices were wanted and can retry with room for them; past it
+ * nothing is stored. */
 INLINE void append_light_vertex(const RenderBuffers* b, const LaunchParams* params, int slot, int at,
-                                LightVertex* v)
+                                StoredLightVertex* v)
 {
     if (at >= params->vertexCapacity)
         return;
+#ifdef VERTEX_CONNECTION
     v->prev = b->pathLastVertex[slot];
     int flags = b->pathFlags[slot] + PATH_STORED_ONE;
     b->pathFlags[slot] = flags;
     v->number = flags / PATH_STORED_ONE;
-    b->lightVertices[at] = *v;
     b->pathLastVertex[slot] = at;
     b->lightPathHead[b->pathPixel[slot] - params->firstLightPath] = at;
+#endif
+    ((__global StoredLightVertex*)b->lightVertices)[at] = *v;
 }
 
 INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams* params, int slot, int* rejected)
@@ -78,17 +83,22 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
 
     if (bsdf_has_nondelta(&bsdf)) {
         if (params->storeVertices) {
-            LightVertex v;
+            StoredLightVertex v;
+#ifdef VERTEX_CONNECTION
             v.surface = surface_record(&hit);
-            store3(v.throughput, beta);
-            store3(v.toLight, wLight);
-            v.dVCM = mis.dVCM;
             v.dVC = mis.dVC;
-            v.dVM = mis.dVM;
-            v.pathLength = depth;
             v.triangle = tri;
             v.b1 = bary.x;
             v.b2 = bary.y;
+#else
+            store3(v.position, hit.p);
+            v.pad[0] = v.pad[1] = v.pad[2] = 0.0f;
+#endif
+            store3(v.throughput, beta);
+            store3(v.toLight, wLight);
+            v.dVCM = mis.dVCM;
+            v.dVM = mis.dVM;
+            v.pathLength = depth;
             v.continuation = cont;
 #ifdef PUSH_PER_ITEM
             /* Its place now, as group_allocate4 would give it (an atomic per
