@@ -39,7 +39,7 @@ __kernel void grid_count(__global const StoredLightVertex* vertices, int count, 
      * anywhere in the table, and each atomic add waits for its cache line.
      * That vertex's position was hinted as many vertices before (without
      * it, 47 % of the kernel's samples waited on its load: the hardware
-     * prefetcher does not keep up with the 128-byte stride). */
+     * prefetcher does not keep up with LightVertex's 128-byte stride). */
     int ahead = i + GRID_PREFETCH_DISTANCE;
     if (ahead + GRID_PREFETCH_DISTANCE < count)
         PREFETCH(stored_position(&vertices[ahead + GRID_PREFETCH_DISTANCE]), 12);
