@@ -7,23 +7,26 @@ vectorizer's remarks while it compiles each kernel's work-group function (at
 the kernel's first launch). This renders one small iteration with empty
 caches, splits the remarks by kernel (each work-group function's remarks
 follow the remark that inlines the kernel into it) and prints, per kernel,
-the loops vectorized and the reasons the others were not.
+the loops vectorized and the reasons the others were not. wavevcm sets the
+LLVM options that let the shading kernels vectorize (host/cl/PoclVectorizer.h).
 
   scripts/vectorizer_report.py [-a vcm] [--scene S] [--require K1,K2]
       [--locations] [--build-options "-DNO_PREFETCH"]
-      [--llvm-options "-slp-threshold=100000 -force-vector-width=8"]
+      [--llvm-options "-slp-threshold=1000000 -force-vector-width=8"]
 
---require: exit 1 unless each named kernel has a vectorized loop (for a check
-that fails when a kernel stops vectorizing).
+--require: exit 1 unless each named kernel has a vectorized loop (the ctest
+scripts.vectorized_kernels); exit 77 (skipped) where wavevcm set no LLVM
+options (not PoCL's LLVM as a shared library, or no SIMD width).
 --locations: builds the kernels with -g, so each reason names the kernel
 source line it is about.
---build-options, --llvm-options: experiments. Extra kernel build options, and
-options for the LLVM inside PoCL (which PoCL itself does not take), through
-scripts/pocl_llvm_options.c, compiled here with cc and loaded with LD_PRELOAD.
+--build-options, --llvm-options: experiments. Extra kernel build options
+(POCL_EXTRA_BUILD_FLAGS), and options for the LLVM inside PoCL in place of
+wavevcm's own (WAVEVCM_LLVM_OPTIONS; "" for none).
 Standard library only.
 """
 import argparse
 import collections
+import json
 import os
 import re
 import subprocess
@@ -41,22 +44,29 @@ def main():
     p.add_argument("--require", default="", help="comma-separated kernels that must have a vectorized loop")
     p.add_argument("--locations", action="store_true", help="kernel source line of each reason (builds with -g)")
     p.add_argument("--build-options", default="", help="extra kernel build options, e.g. -DNO_PREFETCH")
-    p.add_argument("--llvm-options", default="", help="options for PoCL's LLVM, e.g. -slp-threshold=100000")
+    p.add_argument("--llvm-options", default=None,
+                   help="options for PoCL's LLVM instead of wavevcm's, e.g. -force-vector-width=8 ('' for none)")
     args = p.parse_args()
     build_options = (args.build_options + (" -g" if args.locations else "")).strip()
 
     with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
         env = dict(os.environ, POCL_VECTORIZER_REMARKS="1", POCL_CACHE_DIR=cache, WAVEVCM_CACHE_DIR="off")
-        if build_options or args.llvm_options:
-            shim = os.path.join(out, "pocl_llvm_options.so")
-            subprocess.run(["cc", "-O2", "-shared", "-fPIC", "-o", shim,
-                            os.path.join(ROOT, "scripts", "pocl_llvm_options.c"), "-ldl"], check=True)
-            env.update(LD_PRELOAD=shim, KERNEL_BUILD_OPTIONS=build_options, POCL_LLVM_OPTIONS=args.llvm_options)
+        if build_options:
+            env["POCL_EXTRA_BUILD_FLAGS"] = build_options
+        if args.llvm_options is not None:
+            env["WAVEVCM_LLVM_OPTIONS"] = args.llvm_options
+        stats = os.path.join(out, "stats.json")
         run = subprocess.run([args.wavevcm, "render", args.scene, "-a", args.algorithm, "-n", "1", "--width", "32",
-                              "--height", "32", "-d", "pthread", "-q", "-o", os.path.join(out, "x.exr")],
+                              "--height", "32", "-d", "pthread", "-q", "-o", os.path.join(out, "x.exr"), "--stats", stats],
                              env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if run.returncode != 0:
-        sys.exit("render failed:\n" + run.stdout[-4000:])
+        if run.returncode != 0:
+            sys.exit("render failed:\n" + run.stdout[-4000:])
+        with open(stats) as f:
+            options = json.load(f)["kernel_build_options"]
+    simd = "-DVECTORIZED_WORK_ITEMS" in options
+    print(f"kernel build options: {options.strip()}")
+    if not simd:
+        print("wavevcm set no LLVM options here: the kernels are built for one work-item at a time")
 
     vectorized = collections.Counter()
     reasons = collections.defaultdict(collections.Counter)
@@ -90,7 +100,10 @@ def main():
     for k in kernels:
         why = "; ".join(f"{n}× {r}" for r, n in reasons[k].most_common())
         print(f"| {k} | {vectorized[k]} | {why} |")
-    missing = [k for k in filter(None, args.require.split(",")) if vectorized[k] == 0]
+    required = list(filter(None, args.require.split(",")))
+    if required and not simd:
+        sys.exit(77)
+    missing = [k for k in required if vectorized[k] == 0]
     if missing:
         sys.exit("not vectorized: " + ", ".join(missing))
 

@@ -275,6 +275,7 @@ ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, 
     auto start = std::chrono::steady_clock::now();
     const std::string options = wavevcmOptions + extraOptions();
     ProgramBuild result;
+    result.options = options;
     fs::path dir = cacheDir();
     if (driverCachesPrograms(device)) {
         result.cache = ProgramBuild::Cache::Driver;

@@ -36,6 +36,7 @@ struct ProgramBuild {
     Cache cache = Cache::None;
     bool fromCache = false; // loaded from wavevcm's cache
     double seconds = 0;
+    std::string options;   // the build options, wavevcm's and WAVEVCM_CL_OPTIONS
     std::string cacheFile; // wavevcm's cache file; empty when it is not used
 };
 const char* cacheName(ProgramBuild::Cache cache); // "wavevcm", "driver", "none"

@@ -411,6 +411,7 @@ int runRender(const RenderOptions& o)
             {"kernel_build_seconds", render.renderer(0).programBuild().seconds},
             {"kernel_cache", cacheName(render.renderer(0).programBuild().cache)},
             {"kernel_cache_hit", render.renderer(0).programBuild().fromCache},
+            {"kernel_build_options", render.renderer(0).programBuild().options},
             {"wavefront", render.renderer(0).wavefront()},
             {"rounds_ahead", render.renderer(0).roundsAhead()},
             {"samples_per_iteration", perIteration},

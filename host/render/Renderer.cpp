@@ -2,6 +2,7 @@
 
 #include "../../kernels/interface/queue_ids.h"
 #include "../Error.h"
+#include "../cl/PoclVectorizer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -53,10 +54,13 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
 
 std::string Renderer::deviceOptions(const DeviceInfo& device)
 {
+    // PoCL's work-items in SIMD where its LLVM takes the options (cl/PoclVectorizer.h).
+    std::string vectorized = workItemVectorization(device);
     // kernels/core/queues.h: queue pushes by an atomic per item where the device has one compute unit,
-    // there cheaper than the work-group's barriers (PoCL may still run its groups on other threads: atomics).
+    // there cheaper than the work-group's barriers (PoCL may still run its groups on other threads: atomics),
+    // unless the work-items run in SIMD: an atomic per item would keep them scalar.
     bool oneThread = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
-    return oneThread ? " -DPUSH_PER_ITEM" : "";
+    return vectorized + (oneThread && vectorized.empty() ? " -DPUSH_PER_ITEM" : "");
 }
 
 // The binary search of light selection as a fixed number of steps

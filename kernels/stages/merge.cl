@@ -9,6 +9,7 @@
  * Each candidate is one cache line (MergeVertex), its bucket's candidates
  * one after another. Under vcm the query's buckets come from
  * connect_vertices (transport/merge_query.h). */
+#include "core/loops.h"
 #include "core/nan_policy.h"
 #include "core/prefetch.h"
 #include "core/queues.h"
@@ -39,6 +40,7 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     float radius2 = params.mergeRadius * params.mergeRadius;
     int buckets[8];
 #ifdef VERTEX_CONNECTION /* vcm: stored by connect_vertices */
+    SCALAR_LOOP
     for (int k = 0; k < 8; ++k)
         buckets[k] = queryBuckets[8 * slot + k];
 #else
@@ -54,8 +56,10 @@ __kernel void merge(RENDER_KERNEL_PARAMS)
     int depth = hit_depth(pathDepth, slot);
 
     vec3 sum = v3s(0.0f);
+    SCALAR_LOOP
     for (int k = 0; k < 8; ++k) {
         int end = bucketStarts[buckets[k] + 1];
+        SCALAR_LOOP
         for (int j = bucketStarts[buckets[k]]; j < end; ++j) {
             __global const MergeVertex* lv = &bucketVertices[j];
             vec3 d = v3_sub(load3(lv->position), cv.hit.p);

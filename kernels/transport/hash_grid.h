@@ -6,6 +6,7 @@
 #ifndef WAVEVCM_HASH_GRID_H
 #define WAVEVCM_HASH_GRID_H
 
+#include "core/loops.h"
 #include "interface/inline.h"
 
 INLINE int3 grid_cell(float3 p, float cellSize)
@@ -68,6 +69,7 @@ INLINE void grid_query_buckets(float3 x, float cellSize, uint cellCount, int buc
     uint px0 = grid_axis_bit(cx, 0), px1 = grid_axis_bit(nx, 0);
     uint py0 = grid_axis_bit(cy, 1), py1 = grid_axis_bit(ny, 1);
     uint pz0 = grid_axis_bit(cz, 2), pz1 = grid_axis_bit(nz, 2);
+    SCALAR_LOOP
     for (int k = 0; k < 8; ++k) {
         uint h = ((k & 1) ? hx1 : hx0) ^ ((k & 2) ? hy1 : hy0) ^ ((k & 4) ? hz1 : hz0);
         uint inBlock = ((k & 1) ? px1 : px0) | ((k & 2) ? py1 : py0) | ((k & 4) ? pz1 : pz0);

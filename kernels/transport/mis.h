@@ -12,6 +12,7 @@
 
 typedef struct PathMis {
     float dVCM, dVC, dVM;
+    float abiPad[2]; /* see vec3 (core/vec3.h): 12 bytes would travel as <2 x float> + float */
 } PathMis;
 
 INLINE PathMis load_mis(__global const float4* m, int slot)

@@ -21,7 +21,7 @@ if(NOT EXISTS ${WORKDIR}/el.exr)
 endif()
 file(READ ${WORKDIR}/second.json json)
 foreach(key device algorithm width height iterations render_seconds setup_seconds samples_per_second nan_count
-            bvh_nodes bvh_build_seconds kernel_cache kernel_cache_hit)
+            bvh_nodes bvh_build_seconds kernel_cache kernel_cache_hit kernel_build_options)
   string(JSON value ERROR_VARIABLE missing GET "${json}" ${key})
   if(missing)
     message(FATAL_ERROR "stats lack '${key}': ${json}")

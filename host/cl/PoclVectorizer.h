@@ -1,0 +1,39 @@
+// SIMD across work-items on PoCL's CPU devices.
+//
+// PoCL runs a work-group as a loop over its work-items and leaves SIMD to
+// LLVM's loop vectorizer, in the LLVM library loaded into this process. Two
+// of LLVM's defaults keep the shading kernels at one work-item per
+// instruction, and no OpenCL build option reaches them (PoCL rejects -mllvm):
+// the SLP vectorizer, which runs first and packs adjacent floats into
+// <2 x float> values that the loop vectorizer then refuses, and the loop
+// vectorizer's cost model, which rates the gathers and scatters of a
+// work-item loop dearer than they run. workItemVectorization() sets
+// -slp-threshold=1000000 -force-vector-width=16 in that LLVM, once per
+// process, where the device's native float vector width is 16 (AVX-512; not
+// measured with AVX2's 8, where it stays off), through LLVM's C API
+// (LLVMParseCommandLineOptions in the libLLVM already loaded). The kernels are written for it: no prefetch hint, atomic or
+// vector type in the work-item loops of the kernels meant to run in SIMD, and
+// SCALAR_LOOP on the short loops inside a work-item that the forced width
+// would otherwise vectorize (kernels/core/loops.h). README, "Vectorization on
+// PoCL", has the measurements.
+//
+// WAVEVCM_LLVM_OPTIONS replaces the options (space-separated LLVM
+// command-line options; empty: none, the kernels then as on other devices).
+// An option LLVM does not know ends the process (LLVM's parser exits).
+#pragma once
+
+#include "Devices.h"
+
+#include <string>
+
+namespace wv {
+
+// For a PoCL CPU device: sets the options above in PoCL's LLVM (the first
+// call in the process; later calls reuse them) and returns the build options
+// that tell the kernels: " -DVECTORIZED_WORK_ITEMS -DLLVM_OPTIONS_KEY=<hash>",
+// the hash making the options part of every program cache's key. "" where
+// nothing is set: another platform or device type, a SIMD width under 16,
+// WAVEVCM_LLVM_OPTIONS empty, or no shared libLLVM in the process.
+std::string workItemVectorization(const DeviceInfo& device);
+
+} // namespace wv
