@@ -8,15 +8,17 @@ the kernel's first launch). This renders one small iteration with empty
 caches, splits the remarks by kernel (each work-group function's remarks
 follow the remark that inlines the kernel into it) and prints, per kernel,
 the loops vectorized and the reasons the others were not. wavevcm sets the
-LLVM options that let the shading kernels vectorize (host/cl/PoclVectorizer.h).
+LLVM options that let the shading kernels vectorize (host/cl/PoclVectorizer.h,
+kernels/core/simd.h).
 
   scripts/vectorizer_report.py [-a vcm] [--scene S] [--require K1,K2]
       [--locations] [--build-options "-DNO_PREFETCH"]
       [--llvm-options "-slp-threshold=1000000 -force-vector-width=8"]
 
 --require: exit 1 unless each named kernel has a vectorized loop (the ctest
-scripts.vectorized_kernels); exit 77 (skipped) where wavevcm set no LLVM
-options (not PoCL's LLVM as a shared library, or no SIMD width).
+scripts.vectorized_kernels); exit 77 (skipped) where wavevcm does not shade
+in SIMD (no LLVM options set: no AVX-512, or not PoCL's LLVM as a shared
+library; or a scene with a GGX lobe).
 --locations: builds the kernels with -g, so each reason names the kernel
 source line it is about.
 --build-options, --llvm-options: experiments. Extra kernel build options
@@ -63,10 +65,10 @@ def main():
             sys.exit("render failed:\n" + run.stdout[-4000:])
         with open(stats) as f:
             options = json.load(f)["kernel_build_options"]
-    simd = "-DVECTORIZED_WORK_ITEMS" in options
+    simd = "-DSIMD_SHADING" in options
     print(f"kernel build options: {options.strip()}")
     if not simd:
-        print("wavevcm set no LLVM options here: the kernels are built for one work-item at a time")
+        print("no SIMD shading here (no LLVM options set, or a scene with a GGX lobe)")
 
     vectorized = collections.Counter()
     reasons = collections.defaultdict(collections.Counter)

@@ -69,18 +69,18 @@ bool setLlvmOptions(const std::vector<std::string>&) { return false; }
 
 } // namespace
 
-std::string workItemVectorization(const DeviceInfo& device)
-{
-    if (device.platformName != kPoclPlatform || !(device.type & CL_DEVICE_TYPE_CPU)) return "";
-    // LLVM's options are the process's, and its parser takes each only once:
-    // the first PoCL device sets them, the rest reuse them.
-    static std::mutex mutex;
-    static bool attempted = false;
-    static std::string buildOptions;
-    std::lock_guard<std::mutex> lock(mutex);
-    if (attempted) return buildOptions;
-    attempted = true;
+// LLVM's options are the process's, and its parser takes each only once: the
+// first call sets them, the rest find them set.
+static std::mutex gMutex;
+static bool gAttempted = false;
+static std::string gKey; // llvmOptionsKey(), once set
 
+bool enableWorkItemVectorization(const DeviceInfo& device)
+{
+    if (device.platformName != kPoclPlatform || !(device.type & CL_DEVICE_TYPE_CPU)) return false;
+    std::lock_guard<std::mutex> lock(gMutex);
+    if (gAttempted) return !gKey.empty();
+    gAttempted = true;
     std::string text;
     if (const char* env = std::getenv("WAVEVCM_LLVM_OPTIONS")) {
         text = env;
@@ -88,16 +88,22 @@ std::string workItemVectorization(const DeviceInfo& device)
         // AVX-512 (16 floats), where it was measured; with AVX2's 8 lanes and
         // slower gathers the hints it gives up may be worth more (README).
         cl_uint width = device.device.getInfo<CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT>();
-        if (width < 16) return buildOptions;
+        if (width < 16) return false;
         text = "-slp-threshold=1000000 -force-vector-width=" + std::to_string(width);
     }
     std::vector<std::string> options = splitOptions(text);
-    if (options.empty() || !setLlvmOptions(options)) return buildOptions;
-    char key[24];
-    std::snprintf(key, sizeof key, "0x%llx",
+    if (options.empty() || !setLlvmOptions(options)) return false;
+    char key[48];
+    std::snprintf(key, sizeof key, " -DLLVM_OPTIONS_KEY=0x%llx",
                   static_cast<unsigned long long>(std::hash<std::string>{}(text) & 0xffffffffffffull));
-    buildOptions = std::string(" -DVECTORIZED_WORK_ITEMS -DLLVM_OPTIONS_KEY=") + key;
-    return buildOptions;
+    gKey = key;
+    return true;
+}
+
+std::string llvmOptionsKey()
+{
+    std::lock_guard<std::mutex> lock(gMutex);
+    return gKey;
 }
 
 } // namespace wv

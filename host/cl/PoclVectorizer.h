@@ -7,15 +7,13 @@
 // the SLP vectorizer, which runs first and packs adjacent floats into
 // <2 x float> values that the loop vectorizer then refuses, and the loop
 // vectorizer's cost model, which rates the gathers and scatters of a
-// work-item loop dearer than they run. workItemVectorization() sets
+// work-item loop dearer than they run. enableWorkItemVectorization() sets
 // -slp-threshold=1000000 -force-vector-width=16 in that LLVM, once per
 // process, where the device's native float vector width is 16 (AVX-512; not
 // measured with AVX2's 8, where it stays off), through LLVM's C API
-// (LLVMParseCommandLineOptions in the libLLVM already loaded). The kernels are written for it: no prefetch hint, atomic or
-// vector type in the work-item loops of the kernels meant to run in SIMD, and
-// SCALAR_LOOP on the short loops inside a work-item that the forced width
-// would otherwise vectorize (kernels/core/loops.h). README, "Vectorization on
-// PoCL", has the measurements.
+// (LLVMParseCommandLineOptions in the libLLVM already loaded). The kernels
+// are written for it (kernels/core/simd.h); README, "Vectorization on PoCL",
+// has the measurements.
 //
 // WAVEVCM_LLVM_OPTIONS replaces the options (space-separated LLVM
 // command-line options; empty: none, the kernels then as on other devices).
@@ -29,11 +27,15 @@
 namespace wv {
 
 // For a PoCL CPU device: sets the options above in PoCL's LLVM (the first
-// call in the process; later calls reuse them) and returns the build options
-// that tell the kernels: " -DVECTORIZED_WORK_ITEMS -DLLVM_OPTIONS_KEY=<hash>",
-// the hash making the options part of every program cache's key. "" where
-// nothing is set: another platform or device type, a SIMD width under 16,
-// WAVEVCM_LLVM_OPTIONS empty, or no shared libLLVM in the process.
-std::string workItemVectorization(const DeviceInfo& device);
+// call in the process; later calls find them set) and says whether they are
+// in force. False for another platform or device type, a SIMD width under
+// 16, WAVEVCM_LLVM_OPTIONS empty, or no shared libLLVM in the process.
+bool enableWorkItemVectorization(const DeviceInfo& device);
+
+// " -DLLVM_OPTIONS_KEY=<hash of the options>" once they are set in this
+// process, else "": appended to every program's build options, so that no
+// program cache (wavevcm's or PoCL's, keyed by source and build options)
+// hands out a program compiled under other LLVM options.
+std::string llvmOptionsKey();
 
 } // namespace wv

@@ -52,15 +52,22 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
     return options;
 }
 
-std::string Renderer::deviceOptions(const DeviceInfo& device)
+std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeatures& features)
 {
-    // PoCL's work-items in SIMD where its LLVM takes the options (cl/PoclVectorizer.h).
-    std::string vectorized = workItemVectorization(device);
+    // The shade kernels' work-items in SIMD (kernels/core/simd.h) where PoCL's LLVM takes the options
+    // (cl/PoclVectorizer.h), unless the scene has a GGX lobe: a vectorized loop runs every branch for every
+    // lane, so each hit pays for every lobe in the program, and with GGX's sampling and evaluation among
+    // them the SIMD shade kernels ran slower than the scalar ones with their hints (caustics scene, Intel
+    // AVX-512: pt 0.94x, vcm 0.93x, ppm 0.91x the iterations, against 1.05-1.18x on the Cornell box's
+    // diffuse, mirror and glass lobes).
+    bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0;
+    bool simd = !ggx && enableWorkItemVectorization(device);
     // kernels/core/queues.h: queue pushes by an atomic per item where the device has one compute unit,
-    // there cheaper than the work-group's barriers (PoCL may still run its groups on other threads: atomics),
-    // unless the work-items run in SIMD: an atomic per item would keep them scalar.
+    // there cheaper than the work-group's barriers (PoCL may still run its groups on other threads:
+    // atomics), but not in SIMD: an atomic per item keeps the loop vectorizer off the work-item loop.
     bool oneThread = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
-    return vectorized + (oneThread && vectorized.empty() ? " -DPUSH_PER_ITEM" : "");
+    return std::string(simd ? " -DSIMD_SHADING" : "") + (oneThread && !simd ? " -DPUSH_PER_ITEM" : "") +
+           llvmOptionsKey();
 }
 
 // The binary search of light selection as a fixed number of steps
@@ -145,7 +152,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     std::string source = expandKernelSources(findKernelDir(), kernelFiles(algorithm));
     build_ = buildProgram(device.context, device.info, source,
                           programOptions(algorithm, scene.features(), lights_.info.lightCount, connectionQueue_) +
-                              deviceOptions(device.info));
+                              deviceOptions(device.info, scene.features()));
 
     // One fixed local size: PoCL compiles a work-group function per local
     // size, and local size 1 is several times slower there.

@@ -4,8 +4,8 @@
  * compiles for the host's x86 target, where clang's builtin becomes a
  * prefetch instruction); elsewhere the hint is nothing, and a streaming store
  * a plain one. A prefetch keeps LLVM's loop vectorizer off the work-item loop
- * it is in: the kernels that PoCL runs in SIMD (VECTORIZED_WORK_ITEMS) leave
- * them out, and -DNO_PREFETCH builds without any, for experiments. */
+ * it is in: the shade kernels leave them out where PoCL runs them in SIMD
+ * (core/simd.h), and -DNO_PREFETCH builds without any, for experiments. */
 #ifndef WAVEVCM_PREFETCH_H
 #define WAVEVCM_PREFETCH_H
 

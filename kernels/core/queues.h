@@ -38,9 +38,9 @@ INLINE Lanes lanes(int x, int y, int z, int w)
 #endif
 
 /* PUSH_PER_ITEM (set by the host for a CPU device of one compute unit, such
- * as each of the two pipelines' sub-devices on a 2-core machine, unless PoCL
- * runs the work-items in SIMD, VECTORIZED_WORK_ITEMS: an atomic per item
- * keeps the loop vectorizer off the work-item loop): a global atomic per item
+ * as each of the two pipelines' sub-devices on a 2-core machine, unless the
+ * shade kernels run in SIMD, core/simd.h: an atomic per item keeps the loop
+ * vectorizer off the work-item loop): a global atomic per item
  * and no barrier. There the atomic costs less than the group's barriers and
  * the values PoCL spills across them (2-core AMD EPYC, two pipelines: `pt`
  * iterations +3-5 %, `ppm` +3-12 %, `shade_light` +8 %); on the whole device,

@@ -6,7 +6,7 @@
 #ifndef WAVEVCM_HASH_GRID_H
 #define WAVEVCM_HASH_GRID_H
 
-#include "core/loops.h"
+#include "core/simd.h"
 #include "interface/inline.h"
 
 INLINE int3 grid_cell(float3 p, float cellSize)

@@ -170,12 +170,12 @@ INLINE void prefetch_hit_state(const RenderBuffers* b, int capacity, int queue, 
 /* The path slot that work-item i of a shade kernel takes from the hit queue
  * (-1 past its end), after the hints for the entries ahead: their hit and
  * path state, and the lines that continuing a path writes. Not where the
- * shade kernels run their work-items in SIMD (VECTORIZED_WORK_ITEMS): a
- * prefetch keeps the loop vectorizer off the work-item loop, and a gather
- * of 8-16 work-items' state has as many misses in flight as the hints had. */
+ * shade kernels run their work-items in SIMD (core/simd.h): a prefetch keeps
+ * the loop vectorizer off the work-item loop, and a gather of 16 work-items'
+ * state has as many misses in flight as the hints had. */
 INLINE int shade_slot(const RenderBuffers* b, int capacity, int i)
 {
-#ifndef VECTORIZED_WORK_ITEMS
+#ifndef SIMD_SHADING
     prefetch_hit_state(b, capacity, QUEUE_HITS, i);
     prefetch_shade_outputs(b, capacity, QUEUE_HITS, i);
 #endif

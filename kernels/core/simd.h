@@ -1,0 +1,26 @@
+/* SIMD across work-items on PoCL's CPU devices.
+ *
+ * PoCL runs a work-group as a loop over its work-items. Where the host set
+ * LLVM's options for it (host/cl/PoclVectorizer.h: SLP off, the loop
+ * vectorizer's width forced to 16), LLVM runs 16 work-items per instruction
+ * in every work-item loop it can legally vectorize: one without vector
+ * types, atomics, prefetches or loops of unknown trip count. generate and
+ * generate_light are such loops as written.
+ *
+ * SIMD_SHADING (set by the host with those options, for scenes without a
+ * GGX lobe: Renderer::deviceOptions says why): the shade kernels too. They
+ * then leave out their prefetch hints (transport/path_state.h, shade_slot),
+ * and the host leaves out PUSH_PER_ITEM, whose per-item atomics would keep
+ * them scalar (the group's barriers instead, core/queues.h). */
+#ifndef WAVEVCM_SIMD_H
+#define WAVEVCM_SIMD_H
+
+/* SCALAR_LOOP, before a loop inside a work-item that must stay a loop: the
+ * forced width also reaches the short loops inside a work-item (a hash
+ * grid's eight buckets, a bucket's one or two candidates), which would then
+ * run their few iterations as a scalar remainder behind the vector loop's
+ * checks (merge lost 6-10 %). Without the options the hint changes nothing:
+ * such loops are not vectorized anyway. */
+#define SCALAR_LOOP _Pragma("clang loop vectorize(disable)")
+
+#endif
