@@ -165,7 +165,7 @@ TEST(ProgramBuild, PoclIsLeftToItsOwnCache)
                          std::to_string(::getpid()) + " + 1; }\n";
     int pocl = 0;
     for (const DeviceInfo& info : test::devicesUnderTest()) {
-        if (info.platformName != "Portable Computing Language") continue;
+        if (!info.isPocl()) continue;
         ++pocl;
         DeviceContext device(info);
         ProgramBuild build = buildProgram(device.context, info, source, "");

@@ -15,6 +15,8 @@ std::string DeviceInfo::typeName() const
     return "other";
 }
 
+bool DeviceInfo::isPocl() const { return platformName == "Portable Computing Language"; }
+
 std::string DeviceInfo::label() const
 {
     if (pipelines <= 1) return name;

@@ -25,6 +25,7 @@ struct DeviceInfo {
     int pipeline = 0, pipelines = 1;
 
     std::string typeName() const; // "GPU", "CPU", ...
+    bool isPocl() const;          // PoCL's platform ("Portable Computing Language")
     std::string label() const;    // the name, and "pipeline i of n" when split
 };
 

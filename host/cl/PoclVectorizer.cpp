@@ -17,8 +17,6 @@ namespace wv {
 
 namespace {
 
-constexpr const char* kPoclPlatform = "Portable Computing Language";
-
 std::vector<std::string> splitOptions(const std::string& text)
 {
     std::vector<std::string> options;
@@ -77,7 +75,7 @@ static std::string gKey; // llvmOptionsKey(), once set
 
 bool enableWorkItemVectorization(const DeviceInfo& device)
 {
-    if (device.platformName != kPoclPlatform || !(device.type & CL_DEVICE_TYPE_CPU)) return false;
+    if (!device.isPocl() || !(device.type & CL_DEVICE_TYPE_CPU)) return false;
     std::lock_guard<std::mutex> lock(gMutex);
     if (gAttempted) return !gKey.empty();
     gAttempted = true;

@@ -245,7 +245,7 @@ static bool storeCached(const fs::path& file, const cl::Program& program)
 // from PoCL's cache, 0.04 s from wavevcm's (vcm on a Cornell box).
 static bool driverCachesPrograms(const DeviceInfo& device)
 {
-    if (device.platformName != "Portable Computing Language") return false;
+    if (!device.isPocl()) return false;
     const char* env = std::getenv("POCL_KERNEL_CACHE");
     return !env || std::string(env) != "0";
 }

@@ -9,10 +9,10 @@
  * Each candidate is one cache line (MergeVertex), its bucket's candidates
  * one after another. Under vcm the query's buckets come from
  * connect_vertices (transport/merge_query.h). */
-#include "core/simd.h"
 #include "core/nan_policy.h"
 #include "core/prefetch.h"
 #include "core/queues.h"
+#include "core/simd.h"
 #include "geometry/surface.h"
 #include "transport/camera_vertex.h"
 #include "transport/hash_grid.h"
