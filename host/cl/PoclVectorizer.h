@@ -33,9 +33,10 @@ namespace wv {
 bool enableWorkItemVectorization(const DeviceInfo& device);
 
 // " -DLLVM_OPTIONS_KEY=<hash of the options>" once they are set in this
-// process, else "": appended to every program's build options, so that no
-// program cache (wavevcm's or PoCL's, keyed by source and build options)
-// hands out a program compiled under other LLVM options.
+// process, else "": appended to every render program's build options
+// (Renderer::deviceOptions), so that no program cache (wavevcm's or PoCL's,
+// keyed by source and build options) hands out a render program compiled
+// under other LLVM options.
 std::string llvmOptionsKey();
 
 } // namespace wv

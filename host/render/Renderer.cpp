@@ -58,7 +58,7 @@ std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeature
     // (cl/PoclVectorizer.h), unless the scene has a GGX lobe: a vectorized loop runs every branch for every
     // lane, so each hit pays for every lobe in the program, and with GGX's sampling and evaluation among
     // them the SIMD shade kernels ran slower than the scalar ones with their hints (caustics scene, Intel
-    // AVX-512: pt 0.94x, vcm 0.93x, ppm 0.91x the iterations, against 1.05-1.18x on the Cornell box's
+    // AVX-512: pt 0.94x, vcm 0.93x, ppm 0.89x the iterations, against 1.01-1.17x on the Cornell box's
     // diffuse, mirror and glass lobes).
     bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0;
     bool simd = !ggx && enableWorkItemVectorization(device);

@@ -17,7 +17,7 @@
 
 /* SCALAR_LOOP, before a loop inside a work-item that must stay a loop, where
  * the options are in force (the host then passes LLVM_OPTIONS_KEY to every
- * program): the forced width also reaches the short loops inside a
+ * render program): the forced width also reaches the short loops inside a
  * work-item (a hash grid's eight buckets, a bucket's one or two candidates),
  * which would then run their few iterations as a scalar remainder behind the
  * vector loop's checks (merge lost 6-10 %). Without the options the hint is
