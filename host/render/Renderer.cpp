@@ -52,16 +52,18 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
     return options;
 }
 
-std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeatures& features)
+std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm)
 {
-    // The shade kernels' work-items in SIMD (kernels/core/simd.h) where PoCL's LLVM takes the options
-    // (cl/PoclVectorizer.h), unless the scene has a GGX lobe: a vectorized loop runs every branch for every
-    // lane, so each hit pays for every lobe in the program, and with GGX's sampling and evaluation among
-    // them the SIMD shade kernels ran slower than the scalar ones with their hints (caustics scene, Intel
-    // AVX-512: pt 0.94x, vcm 0.93x, ppm 0.89x the iterations, against 1.01-1.17x on the Cornell box's
-    // diffuse, mirror and glass lobes).
+    // Work-items in SIMD (kernels/core/simd.h) where PoCL's LLVM takes the options (cl/PoclVectorizer.h):
+    // generate and generate_light always, and the shade kernels, except the bidirectional ones in a scene
+    // with a GGX lobe. A vectorized loop runs every branch for every lane, so each hit pays for every lobe
+    // and every outcome in the program. With GGX among them, shade_light and shade_bidirectional ran slower
+    // in SIMD than one work-item at a time with their hints (caustics scene, Intel AVX-512: vcm's
+    // shade_light 0.72x, ppm's shade_light 0.55x and shade_bidirectional 0.75x the items/s; vcm 0.98x, ppm
+    // 0.92x the iterations), while pt's shade still gained (1.09x, pt 1.03x).
     bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0;
-    bool simd = !ggx && enableWorkItemVectorization(device);
+    bool bidirectional = algorithm != Algorithm::PathTracing && algorithm != Algorithm::EyeLight;
+    bool simd = enableWorkItemVectorization(device) && !(ggx && bidirectional);
     // kernels/core/queues.h: queue pushes by an atomic per item where the device has one compute unit,
     // there cheaper than the work-group's barriers (PoCL may still run its groups on other threads:
     // atomics), but not in SIMD: an atomic per item keeps the loop vectorizer off the work-item loop.
@@ -70,17 +72,11 @@ std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeature
            llvmOptionsKey();
 }
 
-// The binary search of light selection as a fixed number of steps
-// (kernels/lights/lights.h): the bits of the largest light index, rounded up
-// to a multiple of 4, so that scenes whose light counts differ a little share
-// one program and its cache entries; a step costs a few instructions, where
-// the 31 steps that cover any table cost shade 3-5 % of its rate.
+// The light selection's binary search as a fixed number of steps
+// (kernels/lights/lights.h, binarySearchSteps).
 std::string lightSelectOption(int lightCount)
 {
-    int steps = 0;
-    while (steps < 31 && (1 << steps) < lightCount) ++steps;
-    steps = std::min(31, (steps + 3) / 4 * 4);
-    return " -DLIGHT_SELECT_STEPS=" + std::to_string(steps);
+    return " -DLIGHT_SELECT_STEPS=" + std::to_string(binarySearchSteps(lightCount));
 }
 
 int defaultWavefront(const DeviceInfo& device)
@@ -152,7 +148,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     std::string source = expandKernelSources(findKernelDir(), kernelFiles(algorithm));
     build_ = buildProgram(device.context, device.info, source,
                           programOptions(algorithm, scene.features(), lights_.info.lightCount, connectionQueue_) +
-                              deviceOptions(device.info, scene.features()));
+                              deviceOptions(device.info, scene.features(), algorithm));
 
     // One fixed local size: PoCL compiles a work-group function per local
     // size, and local size 1 is several times slower there.

@@ -127,8 +127,9 @@ public:
     static std::string programOptions(Algorithm algorithm, const SceneFeatures& features, int lightCount,
                                       bool connectionQueue = false);
     // The options that depend on the device the program is built for (and on
-    // the scene's lobes, which decide whether its shading runs in SIMD there).
-    static std::string deviceOptions(const DeviceInfo& device, const SceneFeatures& features);
+    // the algorithm and the scene's lobes, which decide whether its shading
+    // runs in SIMD there).
+    static std::string deviceOptions(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm);
     // Whether the connection queue is used on `device` (bpt and vcm only).
     static bool usesConnectionQueue(const RenderSettings& settings, const DeviceInfo& device);
 

@@ -32,11 +32,19 @@ SceneFeatures Scene::features() const
         f.directionalLights |= l.type == LIGHT_DIRECTIONAL;
     }
     f.environmentMap = !environment.empty();
+    if (f.environmentMap) f.environmentSize = std::max(environment.image.width, environment.image.height);
     f.textures = !textures.empty();
     f.normalMaps = !tangents.empty();
     f.texCoord1 = !uvs1.empty();
     f.background = f.environmentMap || background.x > 0 || background.y > 0 || background.z > 0;
     return f;
+}
+
+int binarySearchSteps(int count)
+{
+    int steps = 0;
+    while (steps < 31 && (1 << steps) < count) ++steps;
+    return std::min(31, (steps + 3) / 4 * 4);
 }
 
 bool Scene::hasLight() const
@@ -59,7 +67,8 @@ std::string SceneFeatures::buildOptions() const
     if (directionalLights) o += " -DHAS_DIRECTIONAL_LIGHTS";
     if (emissiveTriangles) o += " -DHAS_EMISSIVE_TRIANGLES";
     if (background) o += " -DHAS_BACKGROUND";
-    if (environmentMap) o += " -DHAS_ENVIRONMENT_MAP";
+    if (environmentMap)
+        o += " -DHAS_ENVIRONMENT_MAP -DENV_CDF_STEPS=" + std::to_string(binarySearchSteps(environmentSize));
     if (textures) o += " -DHAS_TEXTURES";
     if (normalMaps) o += " -DHAS_NORMAL_MAPS";
     if (alphaTest) o += " -DHAS_ALPHA_TEST";

@@ -64,6 +64,7 @@ struct SceneFeatures {
     bool emissiveTriangles = false;
     bool background = false;
     bool environmentMap = false; // the background's radiance comes from a map
+    int environmentSize = 0;     // its larger side, in texels
     bool textures = false;       // some material has a texture
     bool normalMaps = false;     // some material has a normal texture (Scene::tangents)
     bool alphaTest = false;      // some material's alphaMode is MASK or BLEND: rays test alpha
@@ -72,6 +73,13 @@ struct SceneFeatures {
 
     std::string buildOptions() const;
 };
+
+// Steps of a kernel's binary search over `count` entries (kernels/core/sampling.h,
+// cdf_bin): enough bits for the largest index, rounded up to a multiple of 4, so
+// that scenes whose counts differ a little share one program and its cache
+// entries; a step costs a few instructions, where the 31 steps that cover any
+// count cost shade 3-5 % of its rate.
+int binarySearchSteps(int count);
 
 struct Scene {
     std::string path;

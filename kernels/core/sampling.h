@@ -100,6 +100,24 @@ INLINE vec3 sample_uniform_cone(float u1, float u2, float cosMax)
     return v3(r * c, r * s, z);
 }
 
+/* The bin of a CDF with `count` bins (count + 1 entries, non-decreasing,
+ * cdf[0] = 0) that holds u: the largest i < count with cdf[i] <= u, by a
+ * binary search over the bits of i from bit steps − 1 down (count <= 2^steps).
+ * Called with a constant `steps`, it is a fixed sequence of steps, no loop:
+ * a data-dependent loop would keep PoCL from vectorizing the kernel
+ * (core/simd.h). */
+INLINE int cdf_bin(__global const float* cdf, int count, float u, int steps)
+{
+    int lo = 0;
+#pragma unroll
+    for (int bit = steps - 1; bit >= 0; --bit) {
+        int mid = lo + (1 << bit);
+        bool below = cdf[min(mid, count - 1)] <= u;
+        lo = mid < count && below ? mid : lo;
+    }
+    return lo;
+}
+
 /* Uniform point on a triangle as barycentrics (b1, b2) (Heitz's "low
  * distortion" map would be an option; this square-root map is standard). */
 INLINE vec2 sample_triangle(float u1, float u2)

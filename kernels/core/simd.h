@@ -4,11 +4,13 @@
  * LLVM's options for it (host/cl/PoclVectorizer.h: SLP off, the loop
  * vectorizer's width forced to 16), LLVM runs 16 work-items per instruction
  * in every work-item loop it can legally vectorize: one without vector
- * types, atomics, prefetches or loops of unknown trip count. generate and
- * generate_light are such loops as written.
+ * types, atomics, prefetches, switches or loops of unknown trip count (LLVM
+ * makes a switch of a chain of equality tests on one value: lights/lights.h,
+ * light_is). generate and generate_light are such loops as written.
  *
- * SIMD_SHADING (set by the host with those options, for scenes without a
- * GGX lobe: Renderer::deviceOptions says why): the shade kernels too. They
+ * SIMD_SHADING (set by the host with those options, except for the
+ * bidirectional algorithms in scenes with a GGX lobe: Renderer::deviceOptions
+ * says why): the shade kernels too. They
  * then leave out their prefetch hints (transport/path_state.h, shade_slot),
  * and the host leaves out PUSH_PER_ITEM, whose per-item atomics would keep
  * them scalar (the group's barriers instead, core/queues.h). */

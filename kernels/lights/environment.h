@@ -26,18 +26,18 @@ typedef struct Environment {
     __global const float* conditionalCdf;  /* envHeight × (envWidth + 1) */
 } Environment;
 
+/* Steps of the map's CDF searches: enough bits for its larger side. The
+ * renderer sets it for the scene's map (SceneFeatures), so that the
+ * searches are fixed sequences of steps (cdf_bin); the default covers any map. */
+#ifndef ENV_CDF_STEPS
+#define ENV_CDF_STEPS 31
+#endif
+
 /* The bin of a CDF with n bins (n + 1 entries, 0 … 1) that holds u, and
  * where in it u lies (0 … 1). */
 INLINE int sample_cdf(__global const float* cdf, int n, float u, float* within)
 {
-    int lo = 0, hi = n - 1; /* the largest i with cdf[i] <= u */
-    while (lo < hi) {
-        int mid = (lo + hi + 1) / 2;
-        if (cdf[mid] <= u)
-            lo = mid;
-        else
-            hi = mid - 1;
-    }
+    int lo = cdf_bin(cdf, n, u, ENV_CDF_STEPS);
     float width = cdf[lo + 1] - cdf[lo];
     *within = width > 0.0f ? clamp((u - cdf[lo]) / width, 0.0f, 0x1.fffffep-1f) : 0.5f;
     return lo;

@@ -40,19 +40,20 @@ typedef struct LightSample {
 #define LIGHT_SELECT_STEPS 31
 #endif
 
-/* The light whose CDF interval holds u: the largest i < count with
- * cdf[i] <= u (binary search over the bits of i; cdf[0] = 0). */
+/* The light whose CDF interval holds u (cdf[0] = 0). */
 INLINE int select_light(__global const float* cdf, int count, float u)
 {
-    int lo = 0;
-#pragma unroll
-    for (int bit = LIGHT_SELECT_STEPS - 1; bit >= 0; --bit) {
-        int mid = lo + (1 << bit);
-        bool below = cdf[min(mid, count - 1)] <= u;
-        lo = mid < count && below ? mid : lo;
-    }
-    return lo;
+    return cdf_bin(cdf, count, u, LIGHT_SELECT_STEPS);
 }
+
+/* Whether a light of type `type` is one of `types`, a set of LIGHT_BIT(t).
+ * Sampling branches on the light's type with these tests, not with
+ * comparisons: LLVM turns a chain of equality tests on one value into a
+ * switch, and its loop vectorizer refuses a loop with a switch (PoCL's SIMD
+ * work-item loops, core/simd.h). A test of one bit of a mask is not folded
+ * back into a comparison. */
+#define LIGHT_BIT(type) (1u << (type))
+INLINE bool light_is(int type, uint types) { return ((1u << (uint)type) & types) != 0u; }
 
 /* glTF spot cone: squared linear ramp between the outer and inner cone. */
 INLINE float spot_falloff(__global const Light* l, float cosAngle)
@@ -121,8 +122,7 @@ INLINE vec3 sample_triangle_point(__global const float4* triVertices, int triang
 #endif
 
 /* Next-event estimation: a light chosen by power with u.x, a point or
- * direction on it with u.y, u.z, seen from p. The light types are an
- * if-chain, not a switch: LLVM's loop vectorizer refuses loops with a switch. */
+ * direction on it with u.y, u.z, seen from p. */
 INLINE bool sample_light(__global const Light* lights, __global const float* cdf,
                          __global const float4* triVertices, __constant const SceneInfo* scene, const Environment* env,
                          vec3 p, Uniform4 u, LightSample* s)
@@ -138,7 +138,7 @@ INLINE bool sample_light(__global const Light* lights, __global const float* cdf
     s->radiance = load3(l->emission);
     s->cosAtLight = 1.0f;
 #ifdef HAS_EMISSIVE_TRIANGLES
-    if (type == LIGHT_TRIANGLE) {
+    if (light_is(type, LIGHT_BIT(LIGHT_TRIANGLE))) {
         vec3 n;
         vec3 q = sample_triangle_point(triVertices, l->triangle, u.y, u.z, &s->bary, &s->lightError, &n);
         s->triangle = l->triangle;
@@ -161,7 +161,7 @@ INLINE bool sample_light(__global const Light* lights, __global const float* cdf
     }
 #endif
 #ifdef HAS_POINT_LIGHTS
-    if (type == LIGHT_POINT || type == LIGHT_SPOT) {
+    if (light_is(type, LIGHT_BIT(LIGHT_POINT) | LIGHT_BIT(LIGHT_SPOT))) {
         vec3 d = v3_sub(load3(l->position), p);
         float dist2 = v3_dot(d, d);
         float dist = sqrt(dist2);
@@ -177,7 +177,7 @@ INLINE bool sample_light(__global const Light* lights, __global const float* cdf
     }
 #endif
 #ifdef HAS_DIRECTIONAL_LIGHTS
-    if (type == LIGHT_DIRECTIONAL) {
+    if (light_is(type, LIGHT_BIT(LIGHT_DIRECTIONAL))) {
         s->direction = v3_neg(load3(l->direction));
         s->pdf = l->pmf;
         s->delta = true;
@@ -187,7 +187,7 @@ INLINE bool sample_light(__global const Light* lights, __global const float* cdf
     }
 #endif
 #ifdef HAS_BACKGROUND
-    if (type == LIGHT_BACKGROUND) {
+    if (light_is(type, LIGHT_BIT(LIGHT_BACKGROUND))) {
         bool ok = sample_background(l, scene, env, u.y, u.z, &s->direction, &s->radiance, &s->pdf);
         s->directPdfW = s->pdf;
         s->emissionPdfW = s->pdf / (PI_F * scene->radius * scene->radius);
@@ -239,7 +239,7 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
     vec3 centre = load3c(scene->center);
     float radius = scene->radius;
 #ifdef HAS_EMISSIVE_TRIANGLES
-    if (type == LIGHT_TRIANGLE) {
+    if (light_is(type, LIGHT_BIT(LIGHT_TRIANGLE))) {
         e->position =
             sample_triangle_point(triVertices, l->triangle, u.y, u.z, &e->bary, &e->positionError, &e->normal);
         /* Two-sided: either face with probability 1/2, v.y reused for the direction. */
@@ -260,7 +260,7 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
     }
 #endif
 #ifdef HAS_POINT_LIGHTS
-    if (type == LIGHT_POINT || type == LIGHT_SPOT) {
+    if (light_is(type, LIGHT_BIT(LIGHT_POINT) | LIGHT_BIT(LIGHT_SPOT))) {
         e->position = load3(l->position);
         e->pdfPosition = l->pmf;
         e->directPdf = l->pmf;
@@ -279,7 +279,7 @@ INLINE bool sample_emission(__global const Light* lights, __global const float* 
     }
 #endif
 #if defined(HAS_DIRECTIONAL_LIGHTS) || defined(HAS_BACKGROUND)
-    if (type == LIGHT_DIRECTIONAL || type == LIGHT_BACKGROUND) {
+    if (light_is(type, LIGHT_BIT(LIGHT_DIRECTIONAL) | LIGHT_BIT(LIGHT_BACKGROUND))) {
         e->finite = false;
         bool ok = true;
         if (type == LIGHT_DIRECTIONAL) {
