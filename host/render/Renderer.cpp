@@ -57,10 +57,12 @@ std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeature
     // Work-items in SIMD (kernels/core/simd.h) where PoCL's LLVM takes the options (cl/PoclVectorizer.h):
     // generate and generate_light always, and the shade kernels, except the bidirectional ones in a scene
     // with a GGX lobe. A vectorized loop runs every branch for every lane, so each hit pays for every lobe
-    // and every outcome in the program. With GGX among them, shade_light and shade_bidirectional ran slower
-    // in SIMD than one work-item at a time with their hints (caustics scene, Intel AVX-512: vcm's
-    // shade_light 0.72x, ppm's shade_light 0.55x and shade_bidirectional 0.75x the items/s; vcm 0.98x, ppm
-    // 0.92x the iterations), while pt's shade still gained (1.09x, pt 1.03x).
+    // and every outcome in the program. On the caustics scene (GGX, and much glass) shade_light and
+    // shade_bidirectional ran slower in SIMD than one work-item at a time with their hints (Intel AVX-512:
+    // vcm's shade_light 0.72x, ppm's shade_light 0.55x and shade_bidirectional 0.75x the items/s; vcm 0.98x,
+    // ppm 0.92x the iterations), while pt's shade still gained (1.09x, pt 1.03x). GGX is the criterion
+    // measured, not the whole cause: with the GGX hits shaded one at a time after the others in SIMD,
+    // shade_light was no faster (README, "Vectorization on PoCL").
     bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0;
     bool bidirectional = algorithm != Algorithm::PathTracing && algorithm != Algorithm::EyeLight;
     bool simd = enableWorkItemVectorization(device) && !(ggx && bidirectional);
