@@ -17,9 +17,9 @@ kernels/core/simd.h).
 
 --require: exit 1 unless each named kernel has a vectorized loop (the ctests
 scripts.vectorized_kernels_*); exit 77 (skipped) where wavevcm sets no LLVM
-options (no AVX-512, or not PoCL's LLVM as a shared library). The shade
-kernels of the bidirectional algorithms stay scalar in a scene with a GGX
-lobe (Renderer::deviceOptions): require only generate and generate_light there.
+options (no AVX-512, or not PoCL's LLVM as a shared library). Some shade
+kernels stay scalar in a scene with a GGX lobe (Renderer::deviceOptions:
+shade_light, and ppm's shade_bidirectional): do not require them there.
 --locations: builds the kernels with -g, so each reason names the kernel
 source line it is about.
 --build-options, --llvm-options: experiments. Extra kernel build options
@@ -70,9 +70,10 @@ def main():
     print(f"kernel build options: {options.strip()}")
     if not options_set:
         print("no LLVM options set here: no work-item loop is forced into SIMD")
-    elif "-DSIMD_SHADING" not in options:
-        print("no SIMD shading here (a bidirectional algorithm in a scene with a GGX lobe): generate and "
-              "generate_light only")
+    else:
+        print("shade kernels in SIMD:", ", ".join(k for k, m in (("camera paths'", "-DSIMD_CAMERA_SHADING"),
+                                                                  ("shade_light", "-DSIMD_LIGHT_SHADING"))
+                                                  if m in options) or "none")
 
     vectorized = collections.Counter()
     reasons = collections.defaultdict(collections.Counter)

@@ -55,23 +55,28 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
 std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm)
 {
     // Work-items in SIMD (kernels/core/simd.h) where PoCL's LLVM takes the options (cl/PoclVectorizer.h):
-    // generate and generate_light always, and the shade kernels, except the bidirectional ones in a scene
-    // with a GGX lobe. A vectorized loop runs every branch for every lane, so each hit pays for every lobe
-    // and every outcome in the program. On the caustics scene (GGX, and much glass) shade_light and
-    // shade_bidirectional ran slower in SIMD than one work-item at a time with their hints (Intel AVX-512:
-    // vcm's shade_light 0.72x, ppm's shade_light 0.55x and shade_bidirectional 0.75x the items/s; vcm 0.98x,
-    // ppm 0.92x the iterations), while pt's shade still gained (1.09x, pt 1.03x). GGX is the criterion
-    // measured, not the whole cause: with the GGX hits shaded one at a time after the others in SIMD,
-    // shade_light was no faster (README, "Vectorization on PoCL").
+    // generate and generate_light always; the shade kernels by what was measured (Intel AVX-512, README,
+    // "Vectorization on PoCL"). A vectorized loop runs every branch for every lane, so each hit pays for
+    // every lobe and every outcome in the program, where one work-item at a time skips to the end of the
+    // cheap ones. In scenes with a GGX lobe (the caustics scene, the textured room): shade_light ran
+    // 0.55-0.83x as fast in SIMD; shade_bidirectional 1.08-1.34x under vcm and bpt but 0.75-0.85x under
+    // ppm, whose camera paths end at their first non-delta hit; pt's shade 1.09x. Without GGX all gain.
+    // lt's camera paths do next to nothing: in SIMD they cost its shade_light the per-item pushes (lt
+    // 0.95-0.96x).
+    bool options = enableWorkItemVectorization(device);
     bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0;
-    bool bidirectional = algorithm != Algorithm::PathTracing && algorithm != Algorithm::EyeLight;
-    bool simd = enableWorkItemVectorization(device) && !(ggx && bidirectional);
+    bool cameraWork = algorithm != Algorithm::ProgressivePhotonMapping && algorithm != Algorithm::LightTracing;
+    bool simdCamera = options && (!ggx || cameraWork);
+    bool simdLight = options && !ggx;
+    bool simd = simdCamera || simdLight;
     // kernels/core/queues.h: queue pushes by an atomic per item where the device has one compute unit,
     // there cheaper than the work-group's barriers (PoCL may still run its groups on other threads:
     // atomics), but not in SIMD: an atomic per item keeps the loop vectorizer off the work-item loop.
+    // One rule for the whole program: a scalar shade_light beside a SIMD shade_bidirectional pushes
+    // through the group too.
     bool oneThread = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
-    return std::string(simd ? " -DSIMD_SHADING" : "") + (oneThread && !simd ? " -DPUSH_PER_ITEM" : "") +
-           llvmOptionsKey();
+    return std::string(simdCamera ? " -DSIMD_CAMERA_SHADING=1" : "") + (simdLight ? " -DSIMD_LIGHT_SHADING=1" : "") +
+           (oneThread && !simd ? " -DPUSH_PER_ITEM" : "") + llvmOptionsKey();
 }
 
 // The light selection's binary search as a fixed number of steps

@@ -8,14 +8,22 @@
  * makes a switch of a chain of equality tests on one value: lights/lights.h,
  * light_is). generate and generate_light are such loops as written.
  *
- * SIMD_SHADING (set by the host with those options, except for the
- * bidirectional algorithms in scenes with a GGX lobe: Renderer::deviceOptions
- * says why): the shade kernels too. They
- * then leave out their prefetch hints (transport/path_state.h, shade_slot),
- * and the host leaves out PUSH_PER_ITEM, whose per-item atomics would keep
- * them scalar (the group's barriers instead, core/queues.h). */
+ * SIMD_CAMERA_SHADING, SIMD_LIGHT_SHADING (1 where the host set those
+ * options and chose SIMD for the camera paths' shade kernel, shade or
+ * shade_bidirectional, or for shade_light: Renderer::deviceOptions says
+ * when): that kernel too. It then leaves out its prefetch hints
+ * (transport/path_state.h, shade_slot), and the host leaves out
+ * PUSH_PER_ITEM, whose per-item atomics would keep it scalar (the group's
+ * barriers instead, core/queues.h). */
 #ifndef WAVEVCM_SIMD_H
 #define WAVEVCM_SIMD_H
+
+#ifndef SIMD_CAMERA_SHADING
+#define SIMD_CAMERA_SHADING 0
+#endif
+#ifndef SIMD_LIGHT_SHADING
+#define SIMD_LIGHT_SHADING 0
+#endif
 
 /* SCALAR_LOOP, before a loop inside a work-item that must stay a loop, where
  * the options are in force (the host then passes LLVM_OPTIONS_KEY to every

@@ -13,6 +13,7 @@
 #include "core/nan_policy.h"
 #include "core/queues.h"
 #include "core/rng.h"
+#include "core/simd.h"
 #include "geometry/surface.h"
 #include "interface/inline.h"
 #include "lights/lights.h"
@@ -113,7 +114,7 @@ __kernel void shade(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[QUEUE_SCRATCH_INTS];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
-    int slot = shade_slot(&b, params.capacity, get_global_id(0));
+    int slot = shade_slot(&b, params.capacity, get_global_id(0), SIMD_CAMERA_SHADING);
     bool alive = false, shadowRay = false;
     int rejected = 0;
     if (slot >= 0)

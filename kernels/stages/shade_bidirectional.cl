@@ -15,6 +15,7 @@
 #include "core/nan_policy.h"
 #include "core/queues.h"
 #include "core/rng.h"
+#include "core/simd.h"
 #include "geometry/surface.h"
 #include "interface/inline.h"
 #include "lights/lights.h"
@@ -130,7 +131,7 @@ __kernel void shade_bidirectional(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[QUEUE_SCRATCH_INTS];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
-    int slot = shade_slot(&b, params.capacity, get_global_id(0));
+    int slot = shade_slot(&b, params.capacity, get_global_id(0), SIMD_CAMERA_SHADING);
     CameraHitResult r = {0, 0};
     int rejected = 0;
     if (slot >= 0)

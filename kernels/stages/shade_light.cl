@@ -17,6 +17,7 @@
 #include "core/nan_policy.h"
 #include "core/queues.h"
 #include "core/rng.h"
+#include "core/simd.h"
 #include "geometry/surface.h"
 #include "interface/inline.h"
 #include "lights/camera.h"
@@ -158,7 +159,7 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
 {
     __local int scratch[QUEUE_SCRATCH_INTS];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
-    int slot = shade_slot(&b, params.capacity, get_global_id(0));
+    int slot = shade_slot(&b, params.capacity, get_global_id(0), SIMD_LIGHT_SHADING);
     LightHitResult r;
     r.alive = r.shadowRay = r.storeVertex = 0;
     int rejected = 0;

@@ -170,15 +170,15 @@ INLINE void prefetch_hit_state(const RenderBuffers* b, int capacity, int queue, 
 /* The path slot that work-item i of a shade kernel takes from the hit queue
  * (-1 past its end), after the hints for the entries ahead: their hit and
  * path state, and the lines that continuing a path writes. Not where the
- * shade kernels run their work-items in SIMD (core/simd.h): a prefetch keeps
- * the loop vectorizer off the work-item loop, and a gather of 16 work-items'
- * state has as many misses in flight as the hints had. */
-INLINE int shade_slot(const RenderBuffers* b, int capacity, int i)
+ * kernel runs its work-items in SIMD (`simd`, a constant: core/simd.h): a
+ * prefetch keeps the loop vectorizer off the work-item loop, and a gather of
+ * 16 work-items' state has as many misses in flight as the hints had. */
+INLINE int shade_slot(const RenderBuffers* b, int capacity, int i, bool simd)
 {
-#ifndef SIMD_SHADING
-    prefetch_hit_state(b, capacity, QUEUE_HITS, i);
-    prefetch_shade_outputs(b, capacity, QUEUE_HITS, i);
-#endif
+    if (!simd) {
+        prefetch_hit_state(b, capacity, QUEUE_HITS, i);
+        prefetch_shade_outputs(b, capacity, QUEUE_HITS, i);
+    }
     return queue_item(b->queueItems, b->queueCounters, capacity, QUEUE_HITS, i);
 }
 
