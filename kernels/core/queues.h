@@ -56,13 +56,19 @@ INLINE Lanes lanes(int x, int y, int z, int w)
  * per kernel; `scratch` is __local int[QUEUE_SCRATCH_INTS]: the group's
  * counts (0-3), its places in the queues (4-7), and on CPUs each item's lanes
  * (8 + local id; bit k: it wants lane k, then its four indices, a byte each). */
-INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants, __local int* scratch)
+/* group_allocate4's indices by an atomic per item (PUSH_PER_ITEM). */
+INLINE Lanes item_allocate4(__global int* counters, Lanes counter, Lanes wants)
 {
-#ifdef PUSH_PER_ITEM
     return lanes(wants.x ? atomic_inc(&counters[COUNTER_INDEX(counter.x)]) : -1,
                  wants.y ? atomic_inc(&counters[COUNTER_INDEX(counter.y)]) : -1,
                  wants.z ? atomic_inc(&counters[COUNTER_INDEX(counter.z)]) : -1,
                  wants.w ? atomic_inc(&counters[COUNTER_INDEX(counter.w)]) : -1);
+}
+
+INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants, __local int* scratch)
+{
+#ifdef PUSH_PER_ITEM
+    return item_allocate4(counters, counter, wants);
 #else
     Lanes index;
 #ifdef SERIAL_GROUP_NUMBERING
