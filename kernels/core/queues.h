@@ -37,10 +37,20 @@ INLINE Lanes lanes(int x, int y, int z, int w)
 #define SERIAL_GROUP_NUMBERING 1
 #endif
 
+/* group_allocate4's indices by a global atomic per item (PUSH_PER_ITEM, below). */
+INLINE Lanes item_allocate4(__global int* counters, Lanes counter, Lanes wants)
+{
+    return lanes(wants.x ? atomic_inc(&counters[COUNTER_INDEX(counter.x)]) : -1,
+                 wants.y ? atomic_inc(&counters[COUNTER_INDEX(counter.y)]) : -1,
+                 wants.z ? atomic_inc(&counters[COUNTER_INDEX(counter.z)]) : -1,
+                 wants.w ? atomic_inc(&counters[COUNTER_INDEX(counter.w)]) : -1);
+}
+
 /* PUSH_PER_ITEM (set by the host for a CPU device of one compute unit, such
- * as each of the two pipelines' sub-devices on a 2-core machine, unless the
- * shade kernels run in SIMD, core/simd.h: an atomic per item keeps the loop
- * vectorizer off the work-item loop): a global atomic per item
+ * as each of the two pipelines' sub-devices on a 2-core machine, unless a
+ * shade kernel runs in SIMD, core/simd.h: an atomic per item keeps the loop
+ * vectorizer off the work-item loop; a scalar shade_light beside a SIMD one
+ * has LIGHT_PUSH_PER_ITEM, stages/shade_light.cl): a global atomic per item
  * and no barrier. There the atomic costs less than the group's barriers and
  * the values PoCL spills across them (2-core AMD EPYC, two pipelines: `pt`
  * iterations +3-5 %, `ppm` +3-12 %, `shade_light` +8 %); on the whole device,
@@ -56,15 +66,6 @@ INLINE Lanes lanes(int x, int y, int z, int w)
  * per kernel; `scratch` is __local int[QUEUE_SCRATCH_INTS]: the group's
  * counts (0-3), its places in the queues (4-7), and on CPUs each item's lanes
  * (8 + local id; bit k: it wants lane k, then its four indices, a byte each). */
-/* group_allocate4's indices by an atomic per item (PUSH_PER_ITEM). */
-INLINE Lanes item_allocate4(__global int* counters, Lanes counter, Lanes wants)
-{
-    return lanes(wants.x ? atomic_inc(&counters[COUNTER_INDEX(counter.x)]) : -1,
-                 wants.y ? atomic_inc(&counters[COUNTER_INDEX(counter.y)]) : -1,
-                 wants.z ? atomic_inc(&counters[COUNTER_INDEX(counter.z)]) : -1,
-                 wants.w ? atomic_inc(&counters[COUNTER_INDEX(counter.w)]) : -1);
-}
-
 INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants, __local int* scratch)
 {
 #ifdef PUSH_PER_ITEM
