@@ -118,7 +118,8 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
     std::vector<Float4> origins, directions;
     makeRays(f.scene, n, coherent, anyHit, &origins, &directions);
     std::string source = expandKernelSources(findKernelDir(), {"stages/extend.cl", "stages/connect.cl"});
-    std::string options = "-cl-std=CL1.2" + Renderer::deviceOptions(f.device, f.scene.features(), Algorithm::PathTracing);
+    std::string options =
+        "-cl-std=CL1.2" + Renderer::deviceOptions(f.device, f.scene.features(), Algorithm::PathTracing);
     cl::Program program = buildProgram(device.context, f.device, source, options).program;
     cl::Buffer o = uploadBuffer(device, origins.data(), n * 16, "origins");
     cl::Buffer d = uploadBuffer(device, directions.data(), n * 16, "directions");
