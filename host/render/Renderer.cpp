@@ -61,23 +61,19 @@ std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeature
     // cheap ones. In scenes with a GGX lobe (the caustics scene, the textured room): shade_light ran
     // 0.55-0.83x as fast in SIMD; shade_bidirectional 1.08-1.34x under vcm and bpt but 0.75-0.85x under
     // ppm, whose camera paths end at their first non-delta hit; pt's shade 1.09x. Without GGX all gain.
-    // lt's camera paths do next to nothing (in SIMD, before LIGHT_PUSH_PER_ITEM below, lt ran 0.95-0.96x).
+    // lt's camera paths do next to nothing (in SIMD, while its scalar shade_light also lost its per-item
+    // pushes, lt ran 0.95-0.96x).
     bool options = enableWorkItemVectorization(device);
     bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0;
     bool cameraWork = algorithm != Algorithm::ProgressivePhotonMapping && algorithm != Algorithm::LightTracing;
     bool simdCamera = options && (!ggx || cameraWork);
     bool simdLight = options && !ggx;
-    bool simd = simdCamera || simdLight;
-    // kernels/core/queues.h: queue pushes by an atomic per item where the device has one compute unit,
-    // there cheaper than the work-group's barriers (PoCL may still run its groups on other threads:
-    // atomics), but not in SIMD: an atomic per item keeps the loop vectorizer off the work-item loop.
-    // A scalar shade_light beside a SIMD shade_bidirectional pushes per item too (LIGHT_PUSH_PER_ITEM,
-    // kernels/stages/shade_light.cl); the program's other kernels follow PUSH_PER_ITEM (extend pushing per
-    // item in a SIMD program measured the same, 9.55-9.7 against 9.5-9.55 M rays/s).
+    // kernels/core/queues.h, pushes_per_item: where the device has one compute unit, the kernels that run
+    // one work-item at a time push by an atomic per item, there cheaper than the work-group's barriers
+    // (PoCL may still run its groups on other threads: atomics); SIMD kernels through the group.
     bool oneThread = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
     return std::string(simdCamera ? " -DSIMD_CAMERA_SHADING=1" : "") + (simdLight ? " -DSIMD_LIGHT_SHADING=1" : "") +
-           (oneThread && !simd ? " -DPUSH_PER_ITEM" : "") +
-           (oneThread && simd && !simdLight ? " -DLIGHT_PUSH_PER_ITEM" : "") + llvmOptionsKey();
+           (oneThread ? " -DPUSH_PER_ITEM" : "") + llvmOptionsKey();
 }
 
 // The light selection's binary search as a fixed number of steps

@@ -37,7 +37,7 @@ INLINE Lanes lanes(int x, int y, int z, int w)
 #define SERIAL_GROUP_NUMBERING 1
 #endif
 
-/* group_allocate4's indices by a global atomic per item (PUSH_PER_ITEM, below). */
+/* group_allocate4's indices by a global atomic per item. */
 INLINE Lanes item_allocate4(__global int* counters, Lanes counter, Lanes wants)
 {
     return lanes(wants.x ? atomic_inc(&counters[COUNTER_INDEX(counter.x)]) : -1,
@@ -46,31 +46,42 @@ INLINE Lanes item_allocate4(__global int* counters, Lanes counter, Lanes wants)
                  wants.w ? atomic_inc(&counters[COUNTER_INDEX(counter.w)]) : -1);
 }
 
-/* PUSH_PER_ITEM (set by the host for a CPU device of one compute unit, such
- * as each of the two pipelines' sub-devices on a 2-core machine, unless a
- * shade kernel runs in SIMD, core/simd.h: an atomic per item keeps the loop
- * vectorizer off the work-item loop; a scalar shade_light beside a SIMD one
- * has LIGHT_PUSH_PER_ITEM, stages/shade_light.cl): a global atomic per item
- * and no barrier. There the atomic costs less than the group's barriers and
- * the values PoCL spills across them (2-core AMD EPYC, two pipelines: `pt`
- * iterations +3-5 %, `ppm` +3-12 %, `shade_light` +8 %); on the whole device,
- * where both threads push to the same counters, it made `pt` 10-20 % slower. */
-/* For each of up to four counters (lanes x, y, z, w of `counter`), the next
- * index of that counter for every work-item that `wants` one in that lane,
- * -1 for the others. Aggregated per work-group: one global atomic per counter
- * per group reserves room for all its items (a global atomic per item cost
- * ~95 ns on a 2-core CPU, the counter's cache line bouncing between cores,
- * more than shading). All of a kernel's pushes go through one call: it has
- * two or three barriers, and on PoCL each barrier splits the work-group loop
- * and spills the live values. Every work-item of the group must call it, once
- * per kernel; `scratch` is __local int[QUEUE_SCRATCH_INTS]: the group's
- * counts (0-3), its places in the queues (4-7), and on CPUs each item's lanes
- * (8 + local id; bit k: it wants lane k, then its four indices, a byte each). */
-INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants, __local int* scratch)
+/* Whether a kernel pushes by a global atomic per item and no barrier, not
+ * through the group: where the host set PUSH_PER_ITEM (a CPU device of one
+ * compute unit, such as each of the two pipelines' sub-devices on a 2-core
+ * machine) and the kernel runs its work-items one at a time (`simd` 0, a
+ * constant: core/simd.h; an atomic per item would keep the loop vectorizer
+ * off a SIMD kernel's work-item loop). There the atomic costs less than the
+ * group's barriers and the values PoCL spills across them (2-core AMD EPYC,
+ * two pipelines: `pt` iterations +3-5 %, `ppm` +3-12 %, `shade_light` +8 %;
+ * Intel AVX-512, a scalar shade_light beside a SIMD shade_bidirectional:
+ * 7.1-7.4 against 6.1-6.2 M items/s); on the whole device, where both
+ * threads push to the same counters, it made `pt` 10-20 % slower. */
+INLINE bool pushes_per_item(bool simd)
 {
 #ifdef PUSH_PER_ITEM
-    return item_allocate4(counters, counter, wants);
+    return !simd;
 #else
+    return false;
+#endif
+}
+
+/* For each of up to four counters (lanes x, y, z, w of `counter`), the next
+ * index of that counter for every work-item that `wants` one in that lane,
+ * -1 for the others. Aggregated per work-group (unless pushes_per_item(simd),
+ * `simd` saying whether the calling kernel runs in SIMD): one global atomic
+ * per counter per group reserves room for all its items (a global atomic per
+ * item cost ~95 ns on a 2-core CPU, the counter's cache line bouncing between
+ * cores, more than shading). All of a kernel's pushes go through one call: it
+ * has two or three barriers, and on PoCL each barrier splits the work-group
+ * loop and spills the live values. Every work-item of the group must call it,
+ * once per kernel; `scratch` is __local int[QUEUE_SCRATCH_INTS]: the group's
+ * counts (0-3), its places in the queues (4-7), and on CPUs each item's lanes
+ * (8 + local id; bit k: it wants lane k, then its four indices, a byte each). */
+INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants, __local int* scratch, bool simd)
+{
+    if (pushes_per_item(simd))
+        return item_allocate4(counters, counter, wants);
     Lanes index;
 #ifdef SERIAL_GROUP_NUMBERING
     int item = get_local_id(0);
@@ -117,15 +128,14 @@ INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants,
 #endif
     return lanes(wants.x ? scratch[4] + index.x : -1, wants.y ? scratch[5] + index.y : -1,
                  wants.z ? scratch[6] + index.z : -1, wants.w ? scratch[7] + index.w : -1);
-#endif
 }
 
 /* Appends `slot` to each queue of `queues` whose lane of `push` is set
  * (group_allocate4's rules apply; unused lanes: NO_COUNTER, push 0). */
 INLINE void queue_push4(__global int* items, __global int* counters, int capacity, Lanes queues, Lanes push, int slot,
-                        __local int* scratch)
+                        __local int* scratch, bool simd)
 {
-    Lanes at = group_allocate4(counters, queues, push, scratch);
+    Lanes at = group_allocate4(counters, queues, push, scratch, simd);
     if (at.x >= 0)
         items[queues.x * capacity + at.x] = slot;
     if (at.y >= 0)
@@ -139,11 +149,10 @@ INLINE void queue_push4(__global int* items, __global int* counters, int capacit
 /* The first of `n` consecutive entries of `counter` for this work-item (the
  * group's items' blocks one after another), n ≥ 0. Aggregated per group as
  * group_allocate4 (its rules apply), without its limit of 255 per group. */
-INLINE int group_allocate_n(__global int* counters, int counter, int n, __local int* scratch)
+INLINE int group_allocate_n(__global int* counters, int counter, int n, __local int* scratch, bool simd)
 {
-#ifdef PUSH_PER_ITEM
-    return n > 0 ? atomic_add(&counters[COUNTER_INDEX(counter)], n) : 0;
-#else
+    if (pushes_per_item(simd))
+        return n > 0 ? atomic_add(&counters[COUNTER_INDEX(counter)], n) : 0;
     int item = get_local_id(0);
 #ifdef SERIAL_GROUP_NUMBERING
     scratch[8 + item] = n;
@@ -169,7 +178,6 @@ INLINE int group_allocate_n(__global int* counters, int counter, int n, __local 
         scratch[4] = scratch[0] > 0 ? atomic_add(&counters[COUNTER_INDEX(counter)], scratch[0]) : 0;
     barrier(CLK_LOCAL_MEM_FENCE);
     return scratch[4] + offset;
-#endif
 #endif
 }
 

@@ -6,18 +6,24 @@
  * in every work-item loop it can legally vectorize: one without vector
  * types, atomics, prefetches, switches or loops of unknown trip count (LLVM
  * makes a switch of a chain of equality tests on one value: lights/lights.h,
- * light_is). generate and generate_light are such loops as written.
+ * light_is). Each kernel that can run so tells the code it shares whether
+ * it does (a constant: shade_slot leaves out its prefetch hints, queue pushes
+ * go through the group rather than by an atomic per item, core/queues.h):
  *
- * SIMD_CAMERA_SHADING, SIMD_LIGHT_SHADING (1 where the host set those
- * options and chose SIMD for the camera paths' shade kernel, shade or
+ * SIMD_WORK_ITEMS (1 where the options are in force): generate,
+ * generate_light, escaped and shade_eyelight, vectorized as written.
+ * SIMD_CAMERA_SHADING, SIMD_LIGHT_SHADING (1 where the host set the options
+ * and chose SIMD for the camera paths' shade kernel, shade or
  * shade_bidirectional, or for shade_light: Renderer::deviceOptions says
- * when): that kernel too. It then leaves out its prefetch hints
- * (transport/path_state.h, shade_slot), and the host leaves out
- * PUSH_PER_ITEM, whose per-item atomics would keep it scalar (the group's
- * barriers instead, core/queues.h). */
+ * when): that kernel. */
 #ifndef WAVEVCM_SIMD_H
 #define WAVEVCM_SIMD_H
 
+#ifdef LLVM_OPTIONS_KEY
+#define SIMD_WORK_ITEMS 1
+#else
+#define SIMD_WORK_ITEMS 0
+#endif
 #ifndef SIMD_CAMERA_SHADING
 #define SIMD_CAMERA_SHADING 0
 #endif

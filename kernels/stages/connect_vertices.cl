@@ -164,7 +164,7 @@ __kernel void connect_vertices(RENDER_KERNEL_PARAMS)
      * which the host reports as an error. */
     __local int scratch[QUEUE_SCRATCH_INTS];
     int n = last >= 0 ? min(lightVertices[last].number, params.maxPathLength - depth - 1) : 0;
-    int first = group_allocate_n(queueCounters, COUNTER_CONNECTIONS, n, scratch);
+    int first = group_allocate_n(queueCounters, COUNTER_CONNECTIONS, n, scratch, false);
     if (n > 0 && first + n <= params.connectionCapacity) {
         int used = connect_camera_hit(&b, &params, slot, depth, last, true, first, &rejected);
         for (int i = first + used; i < first + n; ++i) /* reserved, not used */

@@ -5,6 +5,7 @@
  * freed either way. */
 #include "core/nan_policy.h"
 #include "core/queues.h"
+#include "core/simd.h"
 #include "lights/lights.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
@@ -41,6 +42,6 @@ __kernel void escaped(RENDER_KERNEL_PARAMS)
 #endif
     queue_push4(queueItems, queueCounters, params.capacity,
                 lanes(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), lanes(slot >= 0, 0, 0, 0), slot,
-                scratch);
+                scratch, SIMD_WORK_ITEMS);
     report_nonfinite(queueCounters, rejected);
 }

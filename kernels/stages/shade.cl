@@ -121,6 +121,6 @@ __kernel void shade(RENDER_KERNEL_PARAMS)
         shade_hit(&b, &params, slot, &alive, &shadowRay, &rejected);
     queue_push4(queueItems, queueCounters, params.capacity,
                 lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
-                lanes(shadowRay, alive, slot >= 0 && !alive, 0), slot, scratch);
+                lanes(shadowRay, alive, slot >= 0 && !alive, 0), slot, scratch, SIMD_CAMERA_SHADING);
     report_nonfinite(queueCounters, rejected);
 }

@@ -138,6 +138,6 @@ __kernel void shade_bidirectional(RENDER_KERNEL_PARAMS)
         r = shade_camera_hit(&b, &params, slot, &rejected);
     queue_push4(queueItems, queueCounters, params.capacity,
                 lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
-                lanes(r.shadowRay, r.alive, slot >= 0 && !r.alive, 0), slot, scratch);
+                lanes(r.shadowRay, r.alive, slot >= 0 && !r.alive, 0), slot, scratch, SIMD_CAMERA_SHADING);
     report_nonfinite(queueCounters, rejected);
 }

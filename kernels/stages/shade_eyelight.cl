@@ -3,6 +3,7 @@
  * 0 where the ray escapes). Exercises scene, BVH, kernels and output before
  * any light transport. */
 #include "core/queues.h"
+#include "core/simd.h"
 #include "materials/surface_bsdf.h"
 #include "transport/path_state.h"
 
@@ -19,5 +20,5 @@ __kernel void shade_eyelight(RENDER_KERNEL_PARAMS)
     }
     queue_push4(queueItems, queueCounters, params.capacity,
                 lanes(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), lanes(slot >= 0, 0, 0, 0), slot,
-                scratch);
+                scratch, SIMD_WORK_ITEMS);
 }

@@ -28,22 +28,11 @@
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
-/* shade_light pushes per item where the program does (PUSH_PER_ITEM), and
- * also where only the program's other shade kernel runs in SIMD
- * (LIGHT_PUSH_PER_ITEM, Renderer::deviceOptions): scalar here, it would
- * otherwise push through the group's barriers (textured room, vcm: 6.1-6.2
- * against 7.1-7.4 M items/s). */
-#if defined(PUSH_PER_ITEM) || defined(LIGHT_PUSH_PER_ITEM)
-#define SHADE_LIGHT_PER_ITEM
-#endif
-
 /* int, not bool, flags: rusticl (Mesa 22.3) loses bool members of a struct
  * returned from a function. */
 typedef struct LightHitResult {
     int alive, shadowRay, storeVertex;
-#ifndef SHADE_LIGHT_PER_ITEM
     StoredLightVertex vertex; /* to store after the group's reservation */
-#endif
 } LightHitResult;
 
 /* Stores vertex v of the light path in `slot` at place `at` of the light
@@ -110,15 +99,15 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
             v.dVM = mis.dVM;
             v.pathLength = depth;
             v.continuation = cont;
-#ifdef SHADE_LIGHT_PER_ITEM
-            /* Its place now, as group_allocate4 would give it (an atomic per
-             * item): stored here, it is not kept live through the rest. */
-            append_light_vertex(b, params, slot,
-                                atomic_inc(&b->queueCounters[COUNTER_INDEX(COUNTER_LIGHT_VERTICES)]), &v);
-#else
-            r.storeVertex = 1;
-            r.vertex = v;
-#endif
+            if (pushes_per_item(SIMD_LIGHT_SHADING)) {
+                /* Its place now, as group_allocate4 would give it (an atomic
+                 * per item): stored here, it is not kept live through the rest. */
+                append_light_vertex(b, params, slot,
+                                    atomic_inc(&b->queueCounters[COUNTER_INDEX(COUNTER_LIGHT_VERTICES)]), &v);
+            } else {
+                r.storeVertex = 1;
+                r.vertex = v;
+            }
         }
         if (lightPath >= params->firstSplatPath && path_fits(depth + 1, params->maxPathLength)) {
             vec3 cameraPosition = load3c(b->camera->position);
@@ -177,20 +166,14 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
     /* One reservation for the three queues and the light vertices. */
     Lanes queues = lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, COUNTER_LIGHT_VERTICES);
     Lanes wants = lanes(r.shadowRay, r.alive, slot >= 0 && !r.alive, r.storeVertex);
-#ifdef SHADE_LIGHT_PER_ITEM
-    Lanes at = item_allocate4(queueCounters, queues, wants);
-#else
-    Lanes at = group_allocate4(queueCounters, queues, wants, scratch);
-#endif
+    Lanes at = group_allocate4(queueCounters, queues, wants, scratch, SIMD_LIGHT_SHADING);
     if (at.x >= 0)
         queueItems[queues.x * params.capacity + at.x] = slot;
     if (at.y >= 0)
         queueItems[queues.y * params.capacity + at.y] = slot;
     if (at.z >= 0)
         queueItems[queues.z * params.capacity + at.z] = slot;
-#ifndef SHADE_LIGHT_PER_ITEM
     if (at.w >= 0)
         append_light_vertex(&b, &params, slot, at.w, &r.vertex);
-#endif
     report_nonfinite(queueCounters, rejected);
 }
