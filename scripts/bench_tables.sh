@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's ray-casting tables in one command: writes the benchmark scenes
+# The ray-casting tables of docs/performance.md in one command: writes the benchmark scenes
 # (scripts/make_scenes.py: the 130K-triangle Cornell box and the 1M-triangle
 # displaced sphere) into build/bench-scenes if missing, runs wavevcm_bench's
 # ray benchmarks on each scene and the BVH build benchmark, and prints

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Iterations per second of one process against an MPI job on this machine,
-# for the README's tables: 1 process on one pipeline (PoCL's threads on every
+# for the README's tables ("Several machines"): 1 process on one pipeline (PoCL's threads on every
 # core) and on --pipelines P (each on its share of the cores), against K ranks
 # of one PoCL thread each (POCL_MAX_PTHREAD_COUNT=1) and K ranks that each use
 # every core (oversubscribed); the ranks on one pipeline each. Figures, not a test.

@@ -6,8 +6,8 @@ one PoCL thread and counts the instructions executed inside the `extend` (or
 `connect`) kernel's work-group function and inside rtcIntersect1 (or
 rtcOccluded1), each divided by the rays it traced. Deterministic where timings
 on a shared 2-core machine stray by 10 % and more: on the AMD EPYC development
-machine traversal is bound by instruction count (README, "Ray casting"), so a
-change that lowers it can be judged before it is timed.
+machine traversal is bound by instruction count (docs/performance.md,
+"Ray casting"), so a change that lowers it can be judged before it is timed.
 
 Usage: scripts/ray_instructions.py [--scene F] [--bench B ...] [--build DIR]
   B: ExtendIncoherent (default), ExtendCoherent, ConnectIncoherent, ConnectCoherent.

@@ -12,8 +12,8 @@
 // process, where the device's native float vector width is 16 (AVX-512; not
 // measured with AVX2's 8, where it stays off), through LLVM's C API
 // (LLVMParseCommandLineOptions in the libLLVM already loaded). The kernels
-// are written for it (kernels/core/simd.h); README, "Vectorization on PoCL",
-// has the measurements.
+// are written for it (kernels/core/simd.h); docs/performance.md, "Vectorization
+// on PoCL", has the measurements.
 //
 // WAVEVCM_LLVM_OPTIONS replaces the options (space-separated LLVM
 // command-line options; empty: none, the kernels then as on other devices).

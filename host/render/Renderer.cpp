@@ -55,8 +55,8 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
 std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm)
 {
     // Work-items in SIMD (kernels/core/simd.h) where PoCL's LLVM takes the options (cl/PoclVectorizer.h):
-    // generate and generate_light always; the shade kernels by what was measured (Intel AVX-512, README,
-    // "Vectorization on PoCL"). A vectorized loop runs every branch for every lane, so each hit pays for
+    // generate and generate_light always; the shade kernels by what was measured (Intel AVX-512,
+    // docs/performance.md, "Vectorization on PoCL"). A vectorized loop runs every branch for every lane, so each hit pays for
     // every lobe and every outcome in the program, where one work-item at a time skips to the end of the
     // cheap ones. In scenes with a GGX lobe (the caustics scene, the textured room): shade_light ran
     // 0.55-0.83x as fast in SIMD; shade_bidirectional 1.08-1.34x under vcm and bpt but 0.75-0.85x under
@@ -399,7 +399,7 @@ void Renderer::round(Phase& phase, int parity, size_t fresh, size_t live, size_t
 // Measured, N = 0 is faster on both devices there are figures for: on PoCL
 // (N = 2: 0.8x) every launched work-item costs, most rounds have few live
 // paths; on the H200 (N = 1-8: 0.67-0.92x for pt, 0.74-0.88x for vcm) the
-// GPU is idle between rounds either way at 512 x 512 (README, "On a GPU").
+// GPU is idle between rounds either way at 512 x 512 (docs/gpu.md).
 bool Renderer::runPhase(Phase& phase, int firstSample, int count)
 {
     params_.cameraPaths = phase.cameraPaths ? 1 : 0;

@@ -155,7 +155,7 @@ INLINE Uniform4 rng_hashed_uniform4(uint seed, uint iteration, uint sample, uint
  * relMSE at 32 iterations rose 2.1 % +- 0.2 % (bpt) and 5.2 % +- 0.8 % (vcm)
  * on the Cornell box. Under lt, ppm and bpm a light path reaches pixels
  * independently of its index, stratification measured no lower error
- * (README, "Performance"), and hashed blocks make generate_light 1.6x as
+ * (docs/performance.md), and hashed blocks make generate_light 1.6x as
  * fast. */
 INLINE Uniform4 rng_light_uniform4(uint seed, uint iteration, uint lightPath, uint bounce, uint block)
 {

@@ -58,7 +58,7 @@ INLINE ShearedRay shear_ray(Ray ray)
 
 /* any(m): whether a lane's sign bit is set. On x86 one movmskps, where
  * PoCL's any() extracts and ORs the lanes (14 instructions against 2; the
- * traversal is bound by instruction count, README "Ray casting"). */
+ * traversal is bound by instruction count, docs/performance.md, "Ray casting"). */
 INLINE bool any_lane(int4 m)
 {
 #if defined(__SSE__)

@@ -157,8 +157,8 @@ typedef struct SurfaceRecord {
 /* A vertex of a light sub-path, stored for vertex connection (bpt, vcm):
  * everything a camera vertex needs to connect to it, 128 bytes. Its surface
  * is stored as shade_light built it, not rebuilt from the triangle per
- * connection (that took about a tenth of connect_vertices: README,
- * "Performance"); the triangle and barycentrics remain for its material and
+ * connection (that took about a tenth of connect_vertices: docs/performance.md,
+ * "Where the time goes"); the triangle and barycentrics remain for its material and
  * textures. Vertices of one light path form a list from its last vertex
  * back (prev). */
 typedef struct LightVertex {

@@ -6,7 +6,7 @@
  * each loading only lines the step before brought in. (ppm and bpm, which
  * have no connect_vertices, compute the buckets in merge and hint only the
  * query's own. A separate pass that stored them cost what merge gained:
- * README, "Performance".) */
+ * docs/performance.md.) */
 #ifndef WAVEVCM_MERGE_QUERY_H
 #define WAVEVCM_MERGE_QUERY_H
 

@@ -128,7 +128,7 @@ INLINE void prefetch_triangle(const RenderBuffers* b, int tri)
  * writes (store_continuation; the queue push's locked increment waited for
  * that store's miss), and the bidirectional programs' path flags. Hints for
  * the shadow-ray arrays and a light path's last vertex as well made
- * shade_light slower (README, "Performance"). */
+ * shade_light slower (docs/performance.md). */
 INLINE void prefetch_shade_outputs(const RenderBuffers* b, int capacity, int queue, int i)
 {
 #ifdef HAS_PREFETCH
