@@ -19,12 +19,6 @@ INLINE vec3 triangle_vertex(__global const float4* triVertices, int tri, int k)
 
 INLINE vec3 triangle_normal(vec3 v0, vec3 v1, vec3 v2) { return v3_normalize(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))); }
 
-INLINE vec3 geometric_normal(__global const float4* triVertices, int tri)
-{
-    return triangle_normal(triangle_vertex(triVertices, tri, 0), triangle_vertex(triVertices, tri, 1),
-                           triangle_vertex(triVertices, tri, 2));
-}
-
 #ifdef HAS_VERTEX_NORMALS
 /* Falls back to the geometric normal where the interpolated normal vanishes. */
 INLINE vec3 shading_normal(__global const float4* triNormals, int tri, vec2 bary, vec3 ng)
