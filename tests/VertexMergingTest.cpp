@@ -27,7 +27,7 @@ TEST(VertexMerging, VcmConvergesToBptOnEveryScene)
     DeviceInfo device = test::devicesUnderTest()[0];
     const int w = 32, h = 24, iterations = 16, seeds = 8;
     for (const char* name : {"cornell-box", "cornell-box-point", "cornell-box-background", "cornell-box-directional",
-                             "caustics"}) {
+                             "caustics", "textured-room"}) {
         SCOPED_TRACE(name);
         Scene scene = bundled(name);
         std::vector<Image> vcm = test::renderSeeds(device, scene, Algorithm::VertexConnectionMerging, w, h, iterations, seeds);
@@ -40,14 +40,16 @@ TEST(VertexMerging, VcmConvergesToBptOnEveryScene)
 // block (means over 8 seeds within 5 seed-to-seed standard errors). A
 // radius factor of 0.02 keeps the photon count per merge workable at this
 // image size; the bias it leaves (corners, the edges of shadows) stays
-// within the tolerance. The test fails with merges scaled by 1.1.
+// within the tolerance. The test fails with merges scaled by 1.1 (on the
+// Cornell box; the textured room, whose sun in an environment map makes its
+// blocks far noisier, fails at 1.3 and passes at 1.1).
 TEST(VertexMerging, PhotonMappingConvergesToBpt)
 {
     DeviceInfo device = test::devicesUnderTest()[0];
     const int w = 32, h = 32, iterations = 16, seeds = 8;
     const float radiusFactor = 0.02f;
     for (const char* name : {"cornell-box", "cornell-box-background", "cornell-box-point", "cornell-box-directional",
-                             "caustics"}) {
+                             "caustics", "textured-room"}) {
         SCOPED_TRACE(name);
         Scene scene = bundled(name);
         std::vector<Image> bpt = test::renderSeeds(device, scene, Algorithm::Bidirectional, w, h, iterations, seeds);
