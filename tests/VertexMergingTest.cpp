@@ -21,13 +21,16 @@ Scene bundled(const char* name) { return loadGltf(std::string(WAVEVCM_SOURCE_DIR
 
 // vcm converges to bpt's image on every bundled scene: per 8×8 block, means
 // over 8 seeds within 5 seed-to-seed standard errors (as in
-// BidirectionalTest), at the default merge radius.
+// BidirectionalTest), at the default merge radius. Not the textured room:
+// at this size merging carries so little of vcm's image there that vcm with
+// its merges doubled passes (PhotonMappingConvergesToBpt checks merging on
+// it).
 TEST(VertexMerging, VcmConvergesToBptOnEveryScene)
 {
     DeviceInfo device = test::devicesUnderTest()[0];
     const int w = 32, h = 24, iterations = 16, seeds = 8;
     for (const char* name : {"cornell-box", "cornell-box-point", "cornell-box-background", "cornell-box-directional",
-                             "caustics", "textured-room"}) {
+                             "caustics"}) {
         SCOPED_TRACE(name);
         Scene scene = bundled(name);
         std::vector<Image> vcm = test::renderSeeds(device, scene, Algorithm::VertexConnectionMerging, w, h, iterations, seeds);
