@@ -308,12 +308,8 @@ void expectLightPathFurnace(std::vector<Algorithm> algorithms, const Material* o
         // the default, the standard error was 9-11 %).
         bool mergingOnly = a == Algorithm::ProgressivePhotonMapping || a == Algorithm::BidirectionalPhotonMapping;
         test::Render r = test::render(device, scene, a, 32, 32, 8, 5, 40, mergingOnly ? 0.05f : 0.003f);
-        double sum = 0, sq = 0;
-        size_t n = r.image.rgb.size();
-        for (float v : r.image.rgb) sum += v;
-        double mean = sum / double(n);
-        for (float v : r.image.rgb) sq += (v - mean) * (v - mean);
-        double se = std::sqrt(sq / double(n - 1) / double(n / 3)); // a pixel's channels are correlated
+        double mean, se;
+        test::meanAndStandardError(r.image, &mean, &se);
         EXPECT_NEAR(mean, expected, 5 * se) << "standard error " << se;
         EXPECT_LT(se, 0.01 * expected) << "too noisy to detect a 5 % error";
         EXPECT_EQ(r.nonFinite, 0u);
@@ -383,12 +379,8 @@ TEST(Bidirectional, FurnaceWithLightPathsEndingInsideGlass)
         SCOPED_TRACE(algorithmName(a));
         bool lt = a == Algorithm::LightTracing;
         test::Render r = test::render(device, scene, a, 32, 32, lt ? 64 : 8, 5, 40);
-        double sum = 0, sq = 0;
-        size_t n = r.image.rgb.size();
-        for (float v : r.image.rgb) sum += v;
-        double mean = sum / double(n);
-        for (float v : r.image.rgb) sq += (v - mean) * (v - mean);
-        double se = std::sqrt(sq / double(n - 1) / double(n / 3)); // a pixel's channels are correlated
+        double mean, se;
+        test::meanAndStandardError(r.image, &mean, &se);
         EXPECT_NEAR(mean, expected, 5 * se) << "standard error " << se;
         EXPECT_LT(se, (lt ? 0.1 : 0.01) * expected) << "too noisy";
         EXPECT_EQ(r.nonFinite, 0u);

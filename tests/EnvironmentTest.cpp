@@ -113,12 +113,8 @@ TEST(Environment, FurnaceInAConstantEnvironment)
     for (Algorithm a : {Algorithm::PathTracing, Algorithm::VertexConnectionMerging}) {
         SCOPED_TRACE(algorithmName(a));
         test::Render r = test::render(device, scene, a, 32, 32, 16, 3);
-        double sum = 0, sq = 0;
-        size_t n = r.image.rgb.size();
-        for (float v : r.image.rgb) sum += v;
-        double mean = sum / double(n);
-        for (float v : r.image.rgb) sq += (v - mean) * (v - mean);
-        double se = std::sqrt(sq / double(n - 1) / double(n / 3)); // a pixel's channels are correlated
+        double mean, se;
+        test::meanAndStandardError(r.image, &mean, &se);
         EXPECT_NEAR(mean, albedo * L, 5 * se) << "standard error " << se;
         EXPECT_LT(se, 0.01 * albedo * L) << "too noisy to detect a 2 % bias";
         EXPECT_EQ(r.nonFinite, 0u);

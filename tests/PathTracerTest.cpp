@@ -25,17 +25,6 @@ Render renderPt(const DeviceInfo& info, const Scene& scene, int width, int heigh
     return test::render(info, scene, Algorithm::PathTracing, width, height, iterations, seed, maxPathLength);
 }
 
-// Mean over pixels and channels, and its standard error from the spread of
-// the pixel values (pixels are independent samples of a uniform image).
-void meanAndStandardError(const Image& img, double* mean, double* se)
-{
-    size_t n = img.rgb.size();
-    double sum = std::accumulate(img.rgb.begin(), img.rgb.end(), 0.0), sq = 0;
-    *mean = sum / double(n);
-    for (float v : img.rgb) sq += (v - *mean) * (v - *mean);
-    *se = std::sqrt(sq / double(n - 1) / double(n / 3)); // channels of a pixel are correlated: count pixels
-}
-
 // Inside a closed enclosure whose surface has albedo a and emits Le, radiance
 // is Le / (1 − a) everywhere (Le + a·Le + a²·Le + …), whatever the shape and
 // whatever else inside conserves energy. The camera looks at the enclosure
@@ -69,7 +58,7 @@ void expectFurnace(float albedo, const Material* object, const char* what, bool 
         SCOPED_TRACE(std::string(what) + " on " + info.name);
         Render r = renderPt(info, scene, 48, 48, 12, 7); // few iterations: rounds cost launches
         double mean, se;
-        meanAndStandardError(r.image, &mean, &se);
+        test::meanAndStandardError(r.image, &mean, &se);
         // 5 standard errors: a false alarm has probability ~6e-7; a 2 % bias
         // is several times larger than the standard error here.
         EXPECT_NEAR(mean, expected, 5 * se) << "standard error " << se;

@@ -45,6 +45,16 @@ Material lambert(float albedo, float emission)
     return m;
 }
 
+void meanAndStandardError(const Image& image, double* mean, double* se)
+{
+    size_t n = image.rgb.size();
+    double sum = 0, sq = 0;
+    for (float v : image.rgb) sum += v;
+    *mean = sum / double(n);
+    for (float v : image.rgb) sq += (v - *mean) * (v - *mean);
+    *se = std::sqrt(sq / double(n - 1) / double(n / 3));
+}
+
 Material smoothGlass(float ior)
 {
     Material glass{};

@@ -24,6 +24,12 @@ struct Render {
     uint64_t nonFinite = 0;
 };
 
+// Mean over an image's pixels and channels, and its standard error from the
+// spread of the pixel values (for an image that is uniform in expectation,
+// whose pixels are independent samples of it; a pixel's channels are
+// correlated, so pixels are counted, not values).
+void meanAndStandardError(const Image& image, double* mean, double* se);
+
 // `iterations` iterations of `algorithm` at width × height with a small
 // wavefront (several rounds of slot regeneration per iteration).
 // radiusFactor: the merge radius (RenderSettings).
