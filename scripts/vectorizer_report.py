@@ -9,9 +9,13 @@ caches, splits the remarks by kernel (each work-group function's remarks
 follow the remark that inlines the kernel into it) and prints, per kernel,
 the loops vectorized and the reasons the others were not. wavevcm sets the
 LLVM options that let the shading kernels vectorize (host/cl/PoclVectorizer.h,
-kernels/core/simd.h).
+kernels/core/simd.h). It renders as renders run by default: on two
+pipelines where the machine has two cores or more, each on a sub-device of
+one compute unit, where the kernels that run one work-item at a time push to
+their queues by an atomic per item and the SIMD ones through the group
+(kernels/core/queues.h, pushes_per_item); --pipelines 1 for the whole device.
 
-  scripts/vectorizer_report.py [-a vcm] [--scene S] [--require K1,K2]
+  scripts/vectorizer_report.py [-a vcm] [--scene S] [--require K1,K2] [--pipelines N]
       [--locations] [--build-options "-DNO_PREFETCH"]
       [--llvm-options "-slp-threshold=1000000 -force-vector-width=8"]
 
@@ -45,6 +49,8 @@ def main():
     p.add_argument("--scene", default=os.path.join(ROOT, "scenes", "cornell-box.gltf"))
     p.add_argument("--wavevcm", default=os.path.join(ROOT, "build", "wavevcm"))
     p.add_argument("--require", default="", help="comma-separated kernels that must have a vectorized loop")
+    p.add_argument("--pipelines", type=int, default=2 if (os.cpu_count() or 1) >= 2 else 1,
+                   help="render pipelines (default: 2 on two cores or more, as renders run)")
     p.add_argument("--locations", action="store_true", help="kernel source line of each reason (builds with -g)")
     p.add_argument("--build-options", default="", help="extra kernel build options, e.g. -DNO_PREFETCH")
     p.add_argument("--llvm-options", default=None,
@@ -60,7 +66,8 @@ def main():
             env["WAVEVCM_LLVM_OPTIONS"] = args.llvm_options
         stats = os.path.join(out, "stats.json")
         run = subprocess.run([args.wavevcm, "render", args.scene, "-a", args.algorithm, "-n", "1", "--width", "32",
-                              "--height", "32", "-d", "pthread", "-q", "-o", os.path.join(out, "x.exr"), "--stats", stats],
+                              "--height", "32", "-d", "pthread", "--pipelines", str(args.pipelines), "-q",
+                              "-o", os.path.join(out, "x.exr"), "--stats", stats],
                              env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         if run.returncode != 0:
             sys.exit("render failed:\n" + run.stdout[-4000:])

@@ -357,9 +357,10 @@ TEST(Bidirectional, FurnaceWithSmoothGlassInside)
 // alone, fails with the light paths' refraction scaled as radiance is (tried
 // in a kernel copy: 2.25× too dark, 17 standard errors off). It is noisy
 // here (8 % standard error at 64 iterations), so for lt the test tells only
-// errors of that size; its bound on the standard error is 10 %. bpt and vcm weight this light almost wholly to the camera's side
-// (the same kernel copy moved them by under 0.5 %): they check the
-// equilibrium through the glass, as FurnaceWithSmoothGlassInside does.
+// errors of that size; its bound on the standard error is 10 %. bpt and
+// vcm weight this light almost wholly to the camera's side (the same kernel
+// copy moved them by under 0.5 %): they check the equilibrium through the
+// glass, as FurnaceWithSmoothGlassInside does.
 TEST(Bidirectional, FurnaceWithLightPathsEndingInsideGlass)
 {
     const float albedo = 0.5f, Le = 0.5f;
