@@ -168,7 +168,6 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     params_.pixels = pixels_;
     params_.samplesPerIteration = settings.samplesPerIteration;
     params_.techniques = settings.techniques ? 1 : 0;
-    params_.storeVertices = useVC_ || useVM_ ? 1 : 0;
 
     // The rounds: plan_round, and the host's view of the counters.
     planRound_ = kernel("plan_round");
@@ -221,7 +220,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
             c.hasMerge = true;
             grid_ = std::make_unique<HashGrid>(device, build_.program, profiling_ ? &profile_ : nullptr);
         }
-        if (params_.storeVertices) ensureLightVertexCapacity(size_t(samples_) * 2);
+        if (storesLightVertices()) ensureLightVertexCapacity(size_t(samples_) * 2);
     }
     bindAll();
 }
@@ -486,7 +485,7 @@ Renderer::Batches Renderer::renderBatches()
                                             size_t(COUNTER_INDEX(COUNTER_LIGHT_VERTICES)) * sizeof(int), sizeof(int));
             if (!runPhase(lightPhase_, lightFirst, lightCount)) return Batches::Abandoned;
             splatted = std::max(splatted, lightFirst + lightCount);
-            size_t wanted = params_.storeVertices ? size_t(lightVertexCount()) : 0;
+            size_t wanted = storesLightVertices() ? size_t(lightVertexCount()) : 0;
             if (wanted <= vertexCapacity_) break;
             if (wanted <= vertexBudget_) {
                 ensureLightVertexCapacity(wanted + wanted / 4);

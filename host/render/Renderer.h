@@ -176,6 +176,8 @@ private:
     // (StoredLightVertex in kernels/interface/shared_types.h).
     size_t storedVertexBytes_ = sizeof(LightVertex);
     bool useVC_ = false, useVM_ = false;
+    // Light paths keep their vertices for connection and merging (not lt).
+    bool storesLightVertices() const { return useVC_ || useVM_; }
     bool connectionQueue_ = false;
     size_t connectionCapacity_ = 0; // entries of the connection queue's buffers
     float sceneRadius_ = 0, radius_ = 0;

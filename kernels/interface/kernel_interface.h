@@ -101,8 +101,8 @@ typedef struct LaunchParams {
     int firstSample;     /* its samples are [firstSample, firstSample + samples) */
     int samples;
     int cameraPaths;     /* 1: camera sub-paths, 0: light sub-paths */
-    int firstSplatPath;  /* light paths from this index on splat onto the image (lt, bpt, vcm); the
-                          * others did in an earlier pass, or never do (ppm, bpm) */
+    int firstSplatPath;  /* light paths from this index on splat onto the image (lt, bpt, vcm; ppm
+                          * and bpm have no splats); the others did in an earlier pass */
     /* The iteration and light-path batch */
     uint iteration;       /* the global index of this iteration (random numbers, merge radius) */
     int accumulated;      /* samples per pixel already in this renderer's running means */
@@ -120,7 +120,6 @@ typedef struct LaunchParams {
     float lightTracePaths; /* light paths per pass of an iteration (the pixels), for light tracing's MIS */
     int pixels;
     int samplesPerIteration; /* samples (and light paths) per pixel in one iteration: path_state.h */
-    int storeVertices; /* light paths: keep vertices for connection and merging */
     int techniques;    /* accumulate: running means per technique family too */
 } LaunchParams;
 

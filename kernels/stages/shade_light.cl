@@ -1,10 +1,10 @@
-/* shade_light (`-a lt`, `-a bpt`): at every hit of a light sub-path, in
+/* shade_light (every algorithm with light paths: lt, bpt, ppm, bpm, vcm): at
  * order (SmallVCM's light pass, vertexcm.hxx),
  *   1. convert the MIS quantities of the last segment to area measure;
  *   2. at a vertex with a non-delta BSDF: store it in the light-vertex buffer
  *      for vertex connection and merging (as StoredLightVertex: a whole
- *      LightVertex for connection, merging's record for ppm and bpm), and
- *      connect it to the camera (t = 1):
+ *      LightVertex for connection, merging's record for ppm and bpm; not
+ *      lt), and connect it to the camera (t = 1; not ppm and bpm):
  *      queue a shadow ray whose contribution `connect_splat` adds to the
  *      pixel the vertex projects to;
  *   3. sample the adjoint BSDF to continue, with Russian roulette by the
@@ -81,7 +81,12 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     float cont = continuation_probability(&bsdf);
 
     if (bsdf_has_nondelta(&bsdf)) {
-        if (params->storeVertices) {
+        /* Techniques the program lacks are compiled out, not skipped at run
+         * time: where PoCL runs this kernel in SIMD it executes both sides
+         * of every branch for all lanes (ppm and bpm: 1.22-1.29× as fast
+         * without the camera connection's code). */
+#ifndef LIGHT_TRACING /* lt keeps no vertices */
+        {
             StoredLightVertex v;
 #ifdef VERTEX_CONNECTION
             v.surface = surface_record(&hit);
@@ -109,6 +114,8 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
                 r.vertex = v;
             }
         }
+#endif
+#ifndef VERTEX_MERGING_ONLY /* ppm and bpm make no connections, to the camera neither */
         if (lightPath >= params->firstSplatPath && path_fits(depth + 1, params->maxPathLength)) {
             vec3 cameraPosition = load3c(b->camera->position);
             vec3 toCamera = v3_sub(cameraPosition, hit.p);
@@ -140,6 +147,7 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
                 }
             }
         }
+#endif
     }
 
     if (!path_fits(depth + 2, params->maxPathLength))
