@@ -75,6 +75,26 @@ TEST(KernelSources, EveryRenderKernelBuilds)
     }
 }
 
+// Kernel sources are read from the tree at run time: where they declare the
+// shared structs otherwise than the binary was built with (edited or
+// updated without rebuilding), the program must fail to build, saying so,
+// not run with its arguments read wrongly (a crash, before the check).
+TEST(KernelSources, ASharedStructLayoutOtherThanTheHostsFailsTheBuild)
+{
+    DeviceInfo info = test::devicesUnderTest()[0];
+    DeviceContext device(info);
+    std::string source = expandKernelSources(findKernelDir(), Renderer::kernelFiles(Algorithm::PathTracing));
+    std::string options = "-cl-std=CL1.2 -DSCENE_LOBES=0u -DHOST_STRUCT_LAYOUT=";
+    EXPECT_NO_THROW(buildProgram(device.context, info, source, options + std::to_string(STRUCT_LAYOUT) + "u"));
+    try {
+        buildProgram(device.context, info, source, options + std::to_string(STRUCT_LAYOUT + 4) + "u");
+        FAIL() << "kernels of another layout built";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("otherwise_than_the_wavevcm_binary_rebuild_it"), std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(ProgramBuild, FailureReportsTheBuildLogWithFileAndLine)
 {
     TempDir dir("broken");

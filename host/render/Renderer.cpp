@@ -49,6 +49,7 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
     if (bidirectional && !mergingOnly && algorithm != Algorithm::LightTracing) options += " -DVERTEX_CONNECTION";
     if (algorithm == Algorithm::ProgressivePhotonMapping) options += " -DPPM";
     if (connectionQueue) options += " -DCONNECTION_QUEUE";
+    options += " -DHOST_STRUCT_LAYOUT=" + std::to_string(STRUCT_LAYOUT) + "u";
     return options;
 }
 

@@ -123,6 +123,24 @@ typedef struct LaunchParams {
     int techniques;    /* accumulate: running means per technique family too */
 } LaunchParams;
 
+/* One number from the sizes of the structs the host and the kernels share
+ * and the number of render buffers, computed alike by both compilers.
+ * Renderer::programOptions passes the host's as HOST_STRUCT_LAYOUT, so that
+ * kernel sources declaring these otherwise than the wavevcm binary was built
+ * with (edited or updated without rebuilding it; the kernels are read from
+ * the source tree at run time) fail to build, with this check named in the
+ * build log, instead of reading their arguments and buffers wrongly. */
+#define RENDER_BUFFER_COUNT_ONE(space, type, name, perSlot) +1u
+#define STRUCT_LAYOUT                                                                                        \
+    ((uint)sizeof(LaunchParams) + 3u * (uint)sizeof(BvhNode) + 5u * (uint)sizeof(TrianglePacket) +               \
+     7u * (uint)sizeof(Camera) + 11u * (uint)sizeof(Material) + 13u * (uint)sizeof(TextureInfo) +                 \
+     17u * (uint)sizeof(Light) + 19u * (uint)sizeof(SurfaceRecord) + 23u * (uint)sizeof(LightVertex) +            \
+     29u * (uint)sizeof(MergeVertex) + 31u * (uint)sizeof(SceneInfo) + 37u * (0u RENDER_BUFFERS(RENDER_BUFFER_COUNT_ONE)))
+#if defined(__OPENCL_C_VERSION__) && defined(HOST_STRUCT_LAYOUT)
+typedef char kernel_sources_declare_shared_structs_otherwise_than_the_wavevcm_binary_rebuild_it
+    [STRUCT_LAYOUT == HOST_STRUCT_LAYOUT ? 1 : -1];
+#endif
+
 #ifndef __OPENCL_C_VERSION__
 } /* namespace wv */
 #endif
