@@ -307,12 +307,8 @@ void expectLightPathFurnace(std::vector<Algorithm> algorithms, const Material* o
         // that finds a few dozen light vertices per query at this size (at
         // the default, the standard error was 9-11 %).
         bool mergingOnly = a == Algorithm::ProgressivePhotonMapping || a == Algorithm::BidirectionalPhotonMapping;
-        test::Render r = test::render(device, scene, a, 32, 32, 8, 5, 40, mergingOnly ? 0.05f : 0.003f);
-        double mean, se;
-        test::meanAndStandardError(r.image, &mean, &se);
-        EXPECT_NEAR(mean, expected, 5 * se) << "standard error " << se;
-        EXPECT_LT(se, 0.01 * expected) << "too noisy to detect a 5 % error";
-        EXPECT_EQ(r.nonFinite, 0u);
+        test::expectMean(test::render(device, scene, a, 32, 32, 8, 5, 40, mergingOnly ? 0.05f : 0.003f), expected,
+                         0.01);
     }
 }
 
@@ -379,12 +375,7 @@ TEST(Bidirectional, FurnaceWithLightPathsEndingInsideGlass)
     for (Algorithm a : {Algorithm::LightTracing, Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}) {
         SCOPED_TRACE(algorithmName(a));
         bool lt = a == Algorithm::LightTracing;
-        test::Render r = test::render(device, scene, a, 32, 32, lt ? 64 : 8, 5, 40);
-        double mean, se;
-        test::meanAndStandardError(r.image, &mean, &se);
-        EXPECT_NEAR(mean, expected, 5 * se) << "standard error " << se;
-        EXPECT_LT(se, (lt ? 0.1 : 0.01) * expected) << "too noisy";
-        EXPECT_EQ(r.nonFinite, 0u);
+        test::expectMean(test::render(device, scene, a, 32, 32, lt ? 64 : 8, 5, 40), expected, lt ? 0.1 : 0.01);
     }
 }
 

@@ -56,14 +56,9 @@ void expectFurnace(float albedo, const Material* object, const char* what, bool 
     {
         DeviceInfo info = test::devicesUnderTest()[0];
         SCOPED_TRACE(std::string(what) + " on " + info.name);
-        Render r = renderPt(info, scene, 48, 48, 12, 7); // few iterations: rounds cost launches
-        double mean, se;
-        test::meanAndStandardError(r.image, &mean, &se);
-        // 5 standard errors: a false alarm has probability ~6e-7; a 2 % bias
-        // is several times larger than the standard error here.
-        EXPECT_NEAR(mean, expected, 5 * se) << "standard error " << se;
-        EXPECT_LT(se, 0.01 * expected) << "too noisy to detect a 2 % bias";
-        EXPECT_EQ(r.nonFinite, 0u);
+        // Few iterations: rounds cost launches. A 2 % bias is several times
+        // the standard error allowed.
+        test::expectMean(renderPt(info, scene, 48, 48, 12, 7), expected, 0.01);
     }
 }
 

@@ -55,6 +55,16 @@ void meanAndStandardError(const Image& image, double* mean, double* se)
     *se = std::sqrt(sq / double(n - 1) / double(n / 3));
 }
 
+void expectMean(const Render& r, double expected, double maxRelativeError)
+{
+    double mean, se;
+    meanAndStandardError(r.image, &mean, &se);
+    EXPECT_NEAR(mean, expected, 5 * se) << "standard error " << se;
+    EXPECT_LT(se, maxRelativeError * expected) << "too noisy to detect an error of " << 100 * maxRelativeError
+                                               << " % and more";
+    EXPECT_EQ(r.nonFinite, 0u);
+}
+
 Material smoothGlass(float ior)
 {
     Material glass{};

@@ -30,6 +30,12 @@ struct Render {
 // correlated, so pixels are counted, not values).
 void meanAndStandardError(const Image& image, double* mean, double* se);
 
+// A furnace's check of a render whose image is uniform in expectation: its
+// mean within 5 standard errors of `expected` (a false alarm ~6e-7), the
+// standard error below maxRelativeError · expected (else an error of that
+// size would pass unseen), and no non-finite sample.
+void expectMean(const Render& r, double expected, double maxRelativeError);
+
 // `iterations` iterations of `algorithm` at width × height with a small
 // wavefront (several rounds of slot regeneration per iteration).
 // radiusFactor: the merge radius (RenderSettings).
