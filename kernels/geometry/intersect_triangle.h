@@ -1,8 +1,8 @@
 /* Watertight ray/triangle intersection (Woop, Benthin, Wald, "Watertight
- * Ray/Triangle Intersection", JCGT 2(1), 2013), for the TRIANGLE_PACKET_WIDTH
- * triangles of one packet at once: every line below is one float4 operation
- * over the packet's triangles. The ray is sheared so it runs along +z from the
- * origin; the three 2-D edge functions then share their inputs between
+ * Ray/Triangle Intersection", JCGT 2(1), 2013), for PACKET_TEST_WIDTH
+ * triangles of a packet at once: every line of intersect_lanes is one
+ * vector operation over them. The ray is sheared so it runs along +z from
+ * the origin; the three 2-D edge functions then share their inputs between
  * neighbouring triangles, so a ray through a shared edge or vertex hits at
  * least one of them. Both faces are hit; nothing is culled. */
 #ifndef WAVEVCM_INTERSECT_TRIANGLE_H
@@ -21,8 +21,34 @@
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
 
-#if TRIANGLE_PACKET_WIDTH != 4
-#error "intersect_packet is written for packets of four triangles (float4)"
+#if TRIANGLE_PACKET_WIDTH != 8
+#error "intersect_packet is written for packets of eight triangles"
+#endif
+
+/* Lanes tested at once: the whole packet where the device has 8-wide float
+ * vectors (on the AVX CPUs one instruction tests eight triangles as it
+ * would four: against four at a time, the Cornell box's closest hits ran
+ * 1.1x, its shadow rays 1.12x as fast), otherwise each half on its own (a
+ * GPU thread, which runs a vector's lanes one after another, then keeps
+ * four lanes' values live, not eight). floatp and intp (doublep) hold them. */
+#if defined(__AVX__)
+#define PACKET_TEST_WIDTH 8
+#define PACKET_LANE_BITS ((int8)(1, 2, 4, 8, 16, 32, 64, 128))
+#else
+#define PACKET_TEST_WIDTH 4
+#define PACKET_LANE_BITS ((int4)(1, 2, 4, 8))
+#endif
+#define PACKET_PASTE(name, width) name##width
+#define PACKET_NAME_(name, width) PACKET_PASTE(name, width)
+#define PACKET_NAME(name) PACKET_NAME_(name, PACKET_TEST_WIDTH) /* float -> float8 */
+typedef PACKET_NAME(float) floatp;
+typedef PACKET_NAME(int) intp;
+#define vloadp PACKET_NAME(vload)
+#define vstorep PACKET_NAME(vstore)
+#define convert_floatp PACKET_NAME(convert_float)
+#ifdef cl_khr_fp64
+typedef PACKET_NAME(double) doublep;
+#define convert_doublep PACKET_NAME(convert_double)
 #endif
 
 /* Per-ray constants of the shear transform (eq. in §3 of the paper). */
@@ -56,79 +82,104 @@ INLINE ShearedRay shear_ray(Ray ray)
     return s;
 }
 
-/* any(m): whether a lane's sign bit is set. On x86 one movmskps, where
- * PoCL's any() extracts and ORs the lanes (14 instructions against 2; the
- * traversal is bound by instruction count, docs/performance.md, "Ray casting"). */
-INLINE bool any_lane(int4 m)
+/* Bit i set: lane i of m has its sign bit set (a comparison's true). On x86
+ * one movmskps, where PoCL's any() extracts and ORs the lanes (14
+ * instructions against 2; the traversal is bound by instruction count,
+ * docs/performance.md, "Ray casting"). */
+INLINE int lane_mask(intp m)
 {
-#if defined(__SSE__)
-    return __builtin_ia32_movmskps(as_float4(m)) != 0;
+#if defined(__AVX__) && PACKET_TEST_WIDTH == 8
+    return __builtin_ia32_movmskps256(as_float8(m));
+#elif defined(__SSE__) && PACKET_TEST_WIDTH == 4
+    return __builtin_ia32_movmskps(as_float4(m));
 #else
-    return (m.s0 | m.s1 | m.s2 | m.s3) < 0;
+    int lanes[PACKET_TEST_WIDTH];
+    vstorep(m, 0, lanes);
+    int bits = 0;
+    for (int i = 0; i < PACKET_TEST_WIDTH; ++i)
+        bits |= (lanes[i] < 0) << i;
+    return bits;
 #endif
 }
+
+INLINE bool any_lane(intp m) { return lane_mask(m) != 0; }
 
 /* max(a, b) and min(a, b) of values that are never NaN (finite vertices):
  * one maxps/minps on x86, where fmax and fmin, which must return the other
  * operand for a NaN, take three instructions. */
-INLINE float4 max_of(float4 a, float4 b) { return select(b, a, a > b); }
-INLINE float4 min_of(float4 a, float4 b) { return select(b, a, a < b); }
+INLINE floatp max_of(floatp a, floatp b) { return select(b, a, a > b); }
+INLINE floatp min_of(floatp a, floatp b) { return select(b, a, a < b); }
 
-INLINE float float4_lane(float4 v, int lane)
+INLINE float packet_lane(floatp v, int lane)
 {
-    return lane == 0 ? v.s0 : lane == 1 ? v.s1 : lane == 2 ? v.s2 : v.s3;
+    float lanes[PACKET_TEST_WIDTH];
+    vstorep(v, 0, lanes);
+    return lanes[lane];
 }
 
-/* The nearest hit among the packet's triangles with 0 < t < tMax, lanes
- * whose bit (1 << lane) is set in `excluded` left out: returns its lane, or
- * -1, and sets *t, *b1, *b2 (barycentrics of v1 and v2). */
-INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* p, float tMax, int excluded,
-                            float* t, float* b1, float* b2)
+/* The smallest lane of v. */
+INLINE float packet_min(floatp v)
+{
+#if PACKET_TEST_WIDTH == 8
+    float4 m = fmin(v.lo, v.hi);
+#else
+    float4 m = v;
+#endif
+    return fmin(fmin(m.s0, m.s1), fmin(m.s2, m.s3));
+}
+
+/* The nearest hit among the triangles of lanes [PACKET_TEST_WIDTH · part,
+ * PACKET_TEST_WIDTH · (part + 1)) of the packet with 0 < t < tMax, lanes
+ * whose bit (1 << lane, counted from the part's first) is set in `excluded`
+ * left out: returns its lane in the part, or -1, and sets *t, *b1, *b2
+ * (barycentrics of v1 and v2). */
+INLINE int intersect_lanes(const ShearedRay* s, __global const TrianglePacket* p, int part, float tMax,
+                           int excluded, float* t, float* b1, float* b2)
 {
     /* Vertices relative to the origin, sheared (§3, eqs. 2-3). */
-    float4 Az = vload4(0, p->v[0][s->kz]) - s->oz;
-    float4 Bz = vload4(0, p->v[1][s->kz]) - s->oz;
-    float4 Cz = vload4(0, p->v[2][s->kz]) - s->oz;
-    float4 Ax = (vload4(0, p->v[0][s->kx]) - s->ox) - s->sx * Az;
-    float4 Ay = (vload4(0, p->v[0][s->ky]) - s->oy) - s->sy * Az;
-    float4 Bx = (vload4(0, p->v[1][s->kx]) - s->ox) - s->sx * Bz;
-    float4 By = (vload4(0, p->v[1][s->ky]) - s->oy) - s->sy * Bz;
-    float4 Cx = (vload4(0, p->v[2][s->kx]) - s->ox) - s->sx * Cz;
-    float4 Cy = (vload4(0, p->v[2][s->ky]) - s->oy) - s->sy * Cz;
+    floatp Az = vloadp(part, p->v[0][s->kz]) - s->oz;
+    floatp Bz = vloadp(part, p->v[1][s->kz]) - s->oz;
+    floatp Cz = vloadp(part, p->v[2][s->kz]) - s->oz;
+    floatp Ax = (vloadp(part, p->v[0][s->kx]) - s->ox) - s->sx * Az;
+    floatp Ay = (vloadp(part, p->v[0][s->ky]) - s->oy) - s->sy * Az;
+    floatp Bx = (vloadp(part, p->v[1][s->kx]) - s->ox) - s->sx * Bz;
+    floatp By = (vloadp(part, p->v[1][s->ky]) - s->oy) - s->sy * Bz;
+    floatp Cx = (vloadp(part, p->v[2][s->kx]) - s->ox) - s->sx * Cz;
+    floatp Cy = (vloadp(part, p->v[2][s->ky]) - s->oy) - s->sy * Cz;
 
-    float4 U = Cx * By - Cy * Bx;
-    float4 V = Ax * Cy - Ay * Cx;
-    float4 W = Bx * Ay - By * Ax;
+    floatp U = Cx * By - Cy * Bx;
+    floatp V = Ax * Cy - Ay * Cx;
+    floatp W = Bx * Ay - By * Ax;
 #ifdef cl_khr_fp64
     /* An edge function of exactly 0 may be a rounding artefact: redo that
      * triangle's three in double, as the paper prescribes, so the sign test
      * is exact. */
-    int4 zero = U == 0.0f || V == 0.0f || W == 0.0f;
+    intp zero = U == 0.0f || V == 0.0f || W == 0.0f;
     if (any_lane(zero)) {
-        double4 ax = convert_double4(Ax), ay = convert_double4(Ay), bx = convert_double4(Bx),
-                by = convert_double4(By), cx = convert_double4(Cx), cy = convert_double4(Cy);
-        U = select(U, convert_float4(cx * by - cy * bx), zero);
-        V = select(V, convert_float4(ax * cy - ay * cx), zero);
-        W = select(W, convert_float4(bx * ay - by * ax), zero);
+        doublep ax = convert_doublep(Ax), ay = convert_doublep(Ay), bx = convert_doublep(Bx),
+                by = convert_doublep(By), cx = convert_doublep(Cx), cy = convert_doublep(Cy);
+        U = select(U, convert_floatp(cx * by - cy * bx), zero);
+        V = select(V, convert_floatp(ax * cy - ay * cx), zero);
+        W = select(W, convert_floatp(bx * ay - by * ax), zero);
     }
 #endif
-    float4 det = U + V + W;
+    floatp det = U + V + W;
     /* Inside: no edge function negative, or none positive (U, V, W are never
      * NaN for finite vertices). */
-    int4 hit = (min_of(U, min_of(V, W)) >= 0.0f || max_of(U, max_of(V, W)) <= 0.0f) && det != 0.0f &&
-               vload4(0, p->triangle) >= 0;
+    intp hit = (min_of(U, min_of(V, W)) >= 0.0f || max_of(U, max_of(V, W)) <= 0.0f) && det != 0.0f &&
+               vloadp(part, p->triangle) >= 0;
 #ifdef HAS_ALPHA_TEST
-    hit = hit && ((int4)(1, 2, 4, 8) & (int4)(excluded)) == (int4)(0); /* only alpha testing excludes lanes */
+    hit = hit && (PACKET_LANE_BITS & (intp)(excluded)) == (intp)(0); /* only alpha testing excludes lanes */
 #endif
     if (!any_lane(hit))
         return -1;
 
     Az *= s->sz; Bz *= s->sz; Cz *= s->sz;
-    float4 T = U * Az + V * Bz + W * Cz;
+    floatp T = U * Az + V * Bz + W * Cz;
     /* Divide before comparing: the hit is reported iff the t we return lies
      * in (deltaT, tMax), so closest-hit and any-hit agree at every segment end. */
-    float4 invDet = 1.0f / det;
-    float4 tHit = T * invDet;
+    floatp invDet = 1.0f / det;
+    floatp tHit = T * invDet;
     /* Within (0, tMax) first: since deltaT >= 0 this rejects nothing the
      * test below keeps, and packets whose triangles' planes the ray meets
      * only behind it or past tMax (most, for a shadow ray) skip the bound. */
@@ -139,26 +190,55 @@ INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* 
      * after Woop et al. §4): a ray that starts on the triangle, e.g. on a
      * plane through the origin where the hit point's error bound and so the
      * ray offset are zero, must not hit it at t ≈ 0. */
-    float4 maxZ = max_of(fabs(Az), max_of(fabs(Bz), fabs(Cz)));
-    float4 maxX = max_of(fabs(Ax), max_of(fabs(Bx), fabs(Cx)));
-    float4 maxY = max_of(fabs(Ay), max_of(fabs(By), fabs(Cy)));
-    float4 deltaZ = GAMMA(3) * maxZ;
-    float4 deltaX = GAMMA(5) * (maxX + maxZ), deltaY = GAMMA(5) * (maxY + maxZ);
-    float4 deltaE = 2.0f * (GAMMA(2) * maxX * maxY + deltaY * maxX + deltaX * maxY);
-    float4 maxE = max_of(fabs(U), max_of(fabs(V), fabs(W)));
-    float4 deltaT = 3.0f * (GAMMA(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * fabs(invDet);
+    floatp maxZ = max_of(fabs(Az), max_of(fabs(Bz), fabs(Cz)));
+    floatp maxX = max_of(fabs(Ax), max_of(fabs(Bx), fabs(Cx)));
+    floatp maxY = max_of(fabs(Ay), max_of(fabs(By), fabs(Cy)));
+    floatp deltaZ = GAMMA(3) * maxZ;
+    floatp deltaX = GAMMA(5) * (maxX + maxZ), deltaY = GAMMA(5) * (maxY + maxZ);
+    floatp deltaE = 2.0f * (GAMMA(2) * maxX * maxY + deltaY * maxX + deltaX * maxY);
+    floatp maxE = max_of(fabs(U), max_of(fabs(V), fabs(W)));
+    floatp deltaT = 3.0f * (GAMMA(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * fabs(invDet);
     hit = hit && tHit > deltaT;
 
     /* The nearest lane; on a tie the first. */
-    float4 tLane = select((float4)(INFINITY), tHit, hit);
-    float nearest = fmin(fmin(tLane.s0, tLane.s1), fmin(tLane.s2, tLane.s3));
+    floatp tLane = select((floatp)(INFINITY), tHit, hit);
+    float nearest = packet_min(tLane);
     if (!(nearest < tMax))
         return -1;
-    int lane = tLane.s0 == nearest ? 0 : tLane.s1 == nearest ? 1 : tLane.s2 == nearest ? 2 : 3;
+    int atNearest = lane_mask(tLane == nearest);
+    int lane = 31 - clz(atNearest & -atNearest);
     *t = nearest;
-    *b1 = float4_lane(V * invDet, lane);
-    *b2 = float4_lane(W * invDet, lane);
+    *b1 = packet_lane(V * invDet, lane);
+    *b2 = packet_lane(W * invDet, lane);
     return lane;
+}
+
+/* The nearest hit among the packet's triangles with 0 < t < tMax, lanes
+ * whose bit (1 << lane) is set in `excluded` left out: returns its lane, or
+ * -1, and sets *t, *b1, *b2 (barycentrics of v1 and v2); on a tie the first
+ * lane. */
+INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* p, float tMax, int excluded,
+                            float* t, float* b1, float* b2)
+{
+#if PACKET_TEST_WIDTH == TRIANGLE_PACKET_WIDTH
+    return intersect_lanes(s, p, 0, tMax, excluded, t, b1, b2);
+#else
+    /* Part by part, a loop, not unrolled: a GPU compiler that unrolled it
+     * scheduled both parts' loads together (extend: 231 registers for sm_90
+     * against 150). Only nearer hits replace an earlier part's; a part of
+     * padding alone, past the real triangles, ends the packet. */
+    int lane = -1;
+#pragma nounroll
+    for (int part = 0; part < TRIANGLE_PACKET_WIDTH / PACKET_TEST_WIDTH; ++part) {
+        if (p->triangle[part * PACKET_TEST_WIDTH] < 0)
+            break;
+        int found = intersect_lanes(s, p, part, lane >= 0 ? *t : tMax, excluded >> (part * PACKET_TEST_WIDTH),
+                                    t, b1, b2);
+        if (found >= 0)
+            lane = part * PACKET_TEST_WIDTH + found;
+    }
+    return lane;
+#endif
 }
 
 #endif

@@ -35,8 +35,11 @@ typedef struct BvhNode {
 /* TRIANGLE_PACKET_WIDTH triangles of one leaf, tested together: v[k][a][i]
  * is coordinate a of vertex k of the packet's triangle i; triangle[i] its
  * index in the BVH-ordered triangle arrays, -1 for padding (a copy of a real
- * triangle of the packet, never reported). */
-#define TRIANGLE_PACKET_WIDTH 4
+ * triangle of the packet, never reported). A packet's real triangles come
+ * first. Devices test eight lanes at once where they have 8-wide float
+ * vectors (AVX), otherwise each half of four on its own
+ * (geometry/intersect_triangle.h). */
+#define TRIANGLE_PACKET_WIDTH 8
 typedef struct TrianglePacket {
     float v[3][3][TRIANGLE_PACKET_WIDTH];
     int triangle[TRIANGLE_PACKET_WIDTH];
