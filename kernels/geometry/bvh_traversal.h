@@ -105,9 +105,6 @@ INLINE int child_hit_mask(floatw enter, floatw leave)
 #endif
 }
 
-/* The index of the lowest set bit of m != 0. */
-INLINE int lowest_bit(int m) { return 31 - clz(m & -m); }
-
 /* A stack entry is skipped when popped if the ray, shortened since it was
  * pushed, now ends before the box: the same test as enter <= leave above. */
 INLINE bool box_still_ahead(float enter, float tMax) { return enter <= tMax * 1.0000004f; }

@@ -26,11 +26,11 @@
 #endif
 
 /* Lanes tested at once: the whole packet where the device has 8-wide float
- * vectors (on the AVX CPUs one instruction tests eight triangles as it
- * would four: against four at a time, the Cornell box's closest hits ran
- * 1.1x, its shadow rays 1.12x as fast), otherwise each half on its own (a
- * GPU thread, which runs a vector's lanes one after another, then keeps
- * four lanes' values live, not eight). floatp and intp (doublep) hold them. */
+ * vectors (on AVX CPUs one instruction tests eight triangles as it would
+ * four: against packets of four, pt's iterations on the Cornell box 1.07x),
+ * otherwise each half on its own (a GPU thread, which runs a vector's lanes
+ * one after another, then keeps four lanes' values live, not eight).
+ * floatp and intp (doublep) hold them. */
 #if defined(__AVX__)
 #define PACKET_TEST_WIDTH 8
 #define PACKET_LANE_BITS ((int8)(1, 2, 4, 8, 16, 32, 64, 128))
@@ -103,6 +103,9 @@ INLINE int lane_mask(intp m)
 }
 
 INLINE bool any_lane(intp m) { return lane_mask(m) != 0; }
+
+/* The index of the lowest set bit of m != 0. */
+INLINE int lowest_bit(int m) { return 31 - clz(m & -m); }
 
 /* max(a, b) and min(a, b) of values that are never NaN (finite vertices):
  * one maxps/minps on x86, where fmax and fmin, which must return the other
@@ -205,8 +208,7 @@ INLINE int intersect_lanes(const ShearedRay* s, __global const TrianglePacket* p
     float nearest = packet_min(tLane);
     if (!(nearest < tMax))
         return -1;
-    int atNearest = lane_mask(tLane == nearest);
-    int lane = 31 - clz(atNearest & -atNearest);
+    int lane = lowest_bit(lane_mask(tLane == nearest));
     *t = nearest;
     *b1 = packet_lane(V * invDet, lane);
     *b2 = packet_lane(W * invDet, lane);
@@ -223,10 +225,11 @@ INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* 
 #if PACKET_TEST_WIDTH == TRIANGLE_PACKET_WIDTH
     return intersect_lanes(s, p, 0, tMax, excluded, t, b1, b2);
 #else
-    /* Part by part, a loop, not unrolled: a GPU compiler that unrolled it
-     * scheduled both parts' loads together (extend: 231 registers for sm_90
-     * against 150). Only nearer hits replace an earlier part's; a part of
-     * padding alone, past the real triangles, ends the packet. */
+    /* Part by part, in a loop that is not unrolled: unrolled, the GPU
+     * compiler scheduled both parts' loads together (extend for sm_90: 231
+     * registers, against 162 as a loop). Only nearer hits replace an earlier
+     * part's; a part of padding alone, past the real triangles, ends the
+     * packet. */
     int lane = -1;
 #pragma nounroll
     for (int part = 0; part < TRIANGLE_PACKET_WIDTH / PACKET_TEST_WIDTH; ++part) {
