@@ -56,8 +56,7 @@ void expectFurnace(float albedo, const Material* object, const char* what, bool 
     {
         DeviceInfo info = test::devicesUnderTest()[0];
         SCOPED_TRACE(std::string(what) + " on " + info.name);
-        // Few iterations: rounds cost launches. A 2 % bias is several times
-        // the standard error allowed.
+        // Few iterations: rounds cost launches.
         test::expectMean(renderPt(info, scene, 48, 48, 12, 7), expected, 0.01);
     }
 }

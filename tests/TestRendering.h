@@ -32,8 +32,9 @@ void meanAndStandardError(const Image& image, double* mean, double* se);
 
 // A furnace's check of a render whose image is uniform in expectation: its
 // mean within 5 standard errors of `expected` (a false alarm ~6e-7), the
-// standard error below maxRelativeError · expected (else an error of that
-// size would pass unseen), and no non-finite sample.
+// standard error below maxRelativeError · expected (so that any error above
+// 5 · maxRelativeError · expected fails, and smaller ones where the render
+// is less noisy than that bound), and no non-finite sample.
 void expectMean(const Render& r, double expected, double maxRelativeError);
 
 // `iterations` iterations of `algorithm` at width × height with a small
