@@ -52,14 +52,14 @@ std::string env(const char* name, const std::string& fallback)
 // The scene, its BVH and the device, loaded once for all benchmarks.
 struct Fixture {
     Scene scene;
-    Bvh bvh;
     std::vector<DeviceInfo> devices;
     DeviceInfo device;
+    Bvh bvh; // of the device's packet width
 
     Fixture()
         : scene(loadGltf(env("WAVEVCM_BENCH_SCENE", std::string(WAVEVCM_SOURCE_DIR) + "/scenes/cornell-box.gltf"))),
-          bvh(buildBvh(scene.vertices)), devices(enumerateDevices()),
-          device(selectDevice(devices, env("WAVEVCM_BENCH_DEVICE", "")))
+          devices(enumerateDevices()), device(selectDevice(devices, env("WAVEVCM_BENCH_DEVICE", ""))),
+          bvh(buildBvh(scene.vertices, trianglePacketWidth(device)))
     {
     }
     static Fixture& get()
@@ -119,7 +119,8 @@ void rays(benchmark::State& state, bool coherent, bool anyHit)
     makeRays(f.scene, n, coherent, anyHit, &origins, &directions);
     std::string source = expandKernelSources(findKernelDir(), {"stages/extend.cl", "stages/connect.cl"});
     std::string options =
-        "-cl-std=CL1.2" + Renderer::deviceOptions(f.device, f.scene.features(), Algorithm::PathTracing);
+        "-cl-std=CL1.2 -DTRIANGLE_PACKET_WIDTH=" + std::to_string(scene.packetWidth) +
+        Renderer::deviceOptions(f.device, f.scene.features(), Algorithm::PathTracing);
     cl::Program program = buildProgram(device.context, f.device, source, options).program;
     cl::Buffer o = uploadBuffer(device, origins.data(), n * 16, "origins");
     cl::Buffer d = uploadBuffer(device, directions.data(), n * 16, "directions");

@@ -74,16 +74,22 @@ struct Hits {
 
 class Tracer {
 public:
-    Tracer(const DeviceInfo& info, const Scene& scene)
-        : device_(info), bvh_(buildBvh(scene.vertices)), buffers_(device_, scene, bvh_, buildLightTable(scene, bvh_)),
-          program_(test::buildTestProgram(device_, {"stages/extend.cl", test::testKernel("trace_tests.cl")})),
+    // The tree and the brute-force reference in packets `packetWidth` wide.
+    Tracer(const DeviceInfo& info, const Scene& scene, int packetWidth)
+        : device_(info), bvh_(buildBvh(scene.vertices, packetWidth)),
+          buffers_(device_, scene, bvh_, buildLightTable(scene, bvh_)),
+          program_(test::buildTestProgram(device_, {"stages/extend.cl", test::testKernel("trace_tests.cl")},
+                                          "-DTRIANGLE_PACKET_WIDTH=" + std::to_string(packetWidth))),
           allTriangleCount_(0)
     {
         // Every triangle in BVH order, for the brute-force reference.
-        std::vector<TrianglePacket> all;
-        appendPackets(scene.vertices, bvh_.triangleOrder, 0, uint32_t(scene.triangleCount()), all);
-        allTriangleCount_ = all.size();
-        allTriangles_ = uploadBuffer(device_, all.data(), all.size() * sizeof(TrianglePacket), "all triangles");
+        auto upload = [&](auto all) {
+            appendPackets(scene.vertices, bvh_.triangleOrder, 0, uint32_t(scene.triangleCount()), all);
+            allTriangleCount_ = all.size();
+            allTriangles_ = uploadBuffer(device_, all.data(), all.size() * sizeof(all[0]), "all triangles");
+        };
+        if (packetWidth == 4) upload(std::vector<TrianglePacket4>());
+        else upload(std::vector<TrianglePacket8>());
     }
 
     const Bvh& bvh() const { return bvh_; }
@@ -260,11 +266,14 @@ RaySet surfaceRays(const std::vector<Vec3>& v, int count, std::mt19937& rng)
     return rays;
 }
 
+// On every device, with packets of four and of eight triangles (each
+// device's tests take four lanes at a time, or eight where it has AVX).
 void checkAgainstBruteForce(const Scene& scene, const RaySet& rays, const char* what)
 {
-    for (const DeviceInfo& info : test::devicesUnderTest()) {
-        SCOPED_TRACE(info.name + " (" + info.platformName + ")");
-        Tracer tracer(info, scene);
+    for (const DeviceInfo& info : test::devicesUnderTest())
+    for (int packetWidth : {4, 8}) {
+        SCOPED_TRACE(info.name + " (" + info.platformName + "), packets of " + std::to_string(packetWidth));
+        Tracer tracer(info, scene, packetWidth);
         Hits bvh = tracer.closest(rays), brute = tracer.bruteForce(rays);
         expectSameClosestHits(bvh, brute, what);
 
@@ -306,7 +315,7 @@ int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v, int stackBudget =
         if (++failures <= 10) ADD_FAILURE() << what;
     };
     size_t triangles = v.size() / 3;
-    std::vector<int> seen(triangles, 0), nodeSeen(bvh.nodes.size(), 0), packetSeen(bvh.packets.size(), 0);
+    std::vector<int> seen(triangles, 0), nodeSeen(bvh.nodes.size(), 0), packetSeen(bvh.packetCount(), 0);
     // Returns the stack entries a traversal from node n can hold (one visit
     // pushes children - 1 more than it pops); *below gets the box of the
     // triangles under n.
@@ -356,22 +365,28 @@ int checkStructure(const Bvh& bvh, const std::vector<Vec3>& v, int stackBudget =
             }
             int first = (~code) >> 3, packets = ((~code) & 7) + 1;
             for (int p = first; p < first + packets; ++p) {
-                if (p >= int(bvh.packets.size())) { fail("packet index out of range"); break; }
+                if (p >= int(bvh.packetCount())) { fail("packet index out of range"); break; }
                 if (packetSeen[p]++) fail("packet " + std::to_string(p) + " in two leaves");
-                const TrianglePacket& packet = bvh.packets[p];
-                for (int lane = 0; lane < TRIANGLE_PACKET_WIDTH; ++lane) {
-                    int pos = packet.triangle[lane];
-                    if (pos < 0) continue;
-                    if (size_t(pos) >= triangles) { fail("triangle index out of range"); continue; }
-                    seen[pos]++;
-                    uint32_t t = bvh.triangleOrder[pos];
-                    for (int k = 0; k < 3; ++k) {
-                        Vec3 vertex(packet.v[k][0][lane], packet.v[k][1][lane], packet.v[k][2][lane]);
-                        if (!(vertex.x == v[3 * t + k].x && vertex.y == v[3 * t + k].y && vertex.z == v[3 * t + k].z)) fail("packet vertex differs from the scene's");
-                        if (!inside(vertex)) fail("triangle " + std::to_string(t) + " outside its leaf's box");
-                        under.extend(vertex);
-                    }
-                }
+                std::visit(
+                    [&](const auto& all) {
+                        const auto& packet = all[p];
+                        for (int lane = 0; lane < bvh.packetWidth(); ++lane) {
+                            int pos = packet.triangle[lane];
+                            if (pos < 0) continue;
+                            if (size_t(pos) >= triangles) { fail("triangle index out of range"); continue; }
+                            seen[pos]++;
+                            uint32_t t = bvh.triangleOrder[pos];
+                            for (int k = 0; k < 3; ++k) {
+                                Vec3 vertex(packet.v[k][0][lane], packet.v[k][1][lane], packet.v[k][2][lane]);
+                                if (!(vertex.x == v[3 * t + k].x && vertex.y == v[3 * t + k].y &&
+                                      vertex.z == v[3 * t + k].z))
+                                    fail("packet vertex differs from the scene's");
+                                if (!inside(vertex)) fail("triangle " + std::to_string(t) + " outside its leaf's box");
+                                under.extend(vertex);
+                            }
+                        }
+                    },
+                    bvh.packets);
             }
             checkTight();
         }
@@ -431,9 +446,18 @@ TEST(Bvh, StructureIsValid)
     }
     inputs.push_back({"sizes from 1 to 4^39", scales});
     for (const auto& [what, v] : inputs) {
-        SCOPED_TRACE(what);
-        Bvh bvh = buildBvh(v);
-        EXPECT_EQ(checkStructure(bvh, v), 0);
+        Bvh four = buildBvh(v, 4), eight = buildBvh(v, 8);
+        {
+            SCOPED_TRACE(what + ", packets of four");
+            EXPECT_EQ(checkStructure(four, v), 0);
+        }
+        {
+            SCOPED_TRACE(what + ", packets of eight");
+            EXPECT_EQ(checkStructure(eight, v), 0);
+        }
+        // One binary tree serves both widths: the BVH-ordered triangle arrays
+        // and the light table are the same for either.
+        EXPECT_EQ(four.triangleOrder, eight.triangleOrder) << what;
     }
 }
 
@@ -454,12 +478,13 @@ TEST(Bvh, StructureCheckDetectsBrokenTrees)
     std::uniform_real_distribution<float> u(-10, 10);
     std::vector<Vec3> v;
     for (int i = 0; i < 3000; ++i) v.push_back(Vec3(u(rng), u(rng), u(rng)));
-    const Bvh good = buildBvh(v);
-    ASSERT_GT(good.packets.size(), 6u);
+    const Bvh good = buildBvh(v, 8);
+    ASSERT_GT(good.packetCount(), 6u);
     EXPECT_EQ(silentStructureFailures(good, v), 0);
     Bvh moved = good, duplicated = good, shrunk = good, loose = good;
-    moved.packets[3].v[1][0][0] += 100.0f;
-    duplicated.packets[5].triangle[0] = duplicated.packets[6].triangle[0];
+    std::get<LargeArray<TrianglePacket8>>(moved.packets)[3].v[1][0][0] += 100.0f;
+    auto& packets = std::get<LargeArray<TrianglePacket8>>(duplicated.packets);
+    packets[5].triangle[0] = packets[6].triangle[0];
     shrunk.nodes[0].bounds[3][0] = shrunk.nodes[0].bounds[0][0]; // child 0's box flat on x
     int leafNode = int(loose.nodes.size()) - 1; // the last node: interior children only point forward
     loose.nodes[leafNode].bounds[3][0] += 1e-3f; // child 0's box grown on x: still contains, no longer tight
@@ -490,11 +515,11 @@ TEST(Bvh, CollapseFitsAStackBudgetOfTheBinaryHeight)
         EXPECT_GT(silentStructureFailures(planned, v, height), 0) << "the planned tree fits the small budget anyway";
         for (int budget : {height, height + 3}) {
             SCOPED_TRACE("budget " + std::to_string(budget));
-            Bvh bvh = buildBvh(v, budget);
+            Bvh bvh = buildBvh(v, 8, budget);
             EXPECT_EQ(checkStructure(bvh, v, budget), 0);
             EXPECT_GT(bvh.nodes.size(), planned.nodes.size()) << "no binary nodes taken";
         }
-        EXPECT_THROW(buildBvh(v, height - 1), Error);
+        EXPECT_THROW(buildBvh(v, 8, height - 1), Error);
     }
 }
 
@@ -580,9 +605,10 @@ TEST(Bvh, SharedEdgesAndVerticesMatchBruteForceAndAreWatertight)
             fromInside.directions.push_back(rays.directions[i]);
         }
     ASSERT_GT(fromInside.size(), 100u);
-    for (const DeviceInfo& info : test::devicesUnderTest()) {
-        SCOPED_TRACE(info.name);
-        Hits h = Tracer(info, scene).closest(fromInside);
+    for (const DeviceInfo& info : test::devicesUnderTest())
+    for (int packetWidth : {4, 8}) {
+        SCOPED_TRACE(info.name + ", packets of " + std::to_string(packetWidth));
+        Hits h = Tracer(info, scene, packetWidth).closest(fromInside);
         int misses = 0;
         for (int tri : h.triangle) misses += tri < 0;
         EXPECT_EQ(misses, 0) << "rays escaped a closed mesh through an edge or vertex";
@@ -605,7 +631,7 @@ TEST(Bvh, SpawnedRaysNeverSelfIntersect)
         Scene scene = test::sceneFromTriangles(cube);
         for (const DeviceInfo& info : test::devicesUnderTest()) {
             SCOPED_TRACE(info.name + " scale " + std::to_string(place.scale) + " shift " + std::to_string(place.shift));
-            Tracer tracer(info, scene);
+            Tracer tracer(info, scene, trianglePacketWidth(info));
             std::vector<int> sources;
             std::vector<std::array<float, 2>> bary;
             std::vector<Float4> dirs;

@@ -126,8 +126,10 @@ TEST(GpuCompile, EveryProgramAssemblesForSm90)
         fs::path cl = dir / (name + ".cl"), ptx = dir / (name + ".ptx"), cubin = dir / (name + ".cubin");
         std::ofstream(cl) << expandKernelSources(findKernelDir(), Renderer::kernelFiles(a));
         // The device compilers define __OPENCL_VERSION__; clang alone does not for nvptx.
-        // The longest light selection (31 steps), as for a table of 2^30 lights.
-        std::string options = Renderer::programOptions(a, all, 1 << 30, queue) + " -D__OPENCL_VERSION__=120";
+        // The longest light selection (31 steps), as for a table of 2^30 lights;
+        // packets of four triangles, the width a GPU's tree gets (trianglePacketWidth).
+        std::string options = Renderer::programOptions(a, all, 1 << 30, queue) +
+                              " -DTRIANGLE_PACKET_WIDTH=4 -D__OPENCL_VERSION__=120";
         std::string output;
         int status = run(clang + " -x cl -target nvptx64--nvidiacl -O3 " + options +
                              " -Xclang -mlink-bitcode-file -Xclang " + libclc + " -include clc/clc.h -S " +

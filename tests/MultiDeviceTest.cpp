@@ -7,6 +7,7 @@
 #include "TestDevices.h"
 #include "bvh/Bvh.h"
 #include "render/MultiDeviceRender.h"
+#include "render/SceneBuffers.h"
 #include "scene/GltfLoader.h"
 
 #include <gtest/gtest.h>
@@ -37,8 +38,7 @@ Result renderOn(const std::vector<DeviceInfo>& infos, const Scene& scene, Algori
     s.height = 32;
     s.seed = seed;
     s.wavefront = 512;
-    Bvh bvh = buildBvh(scene.vertices);
-    MultiDeviceRender render(contexts.pointers, scene, bvh, s);
+    MultiDeviceRender render(contexts.pointers, scene, buildBvhs(scene.vertices, infos), s);
     schedule.end = iterations;
     Result r;
     render.run(schedule, 0, [] { return false; }, [&](Renderer& renderer, int done, double) {
@@ -173,9 +173,9 @@ TEST(MultiDevice, InterleavedSchedulesGiveTheImageOfOneProcess)
     s.width = s.height = 32;
     s.seed = 5;
     s.wavefront = 512;
-    Bvh bvh = buildBvh(scene.vertices);
+    const std::vector<Bvh> trees = buildBvhs(scene.vertices, {device});
     auto context = std::make_unique<DeviceContext>(device);
-    MultiDeviceRender pieces({context.get()}, scene, bvh, s);
+    MultiDeviceRender pieces({context.get()}, scene, trees, s);
     int stopAfter = 3;
     pieces.run(IterationSchedule{0, 1, 7}, 0, [&] { return pieces.iterations() >= stopAfter; }, nullptr);
     EXPECT_EQ(pieces.iterations(), 3);
@@ -195,9 +195,9 @@ TEST(MultiDevice, AbandonedIterationLeavesTheImageBeforeIt)
     s.width = s.height = 32;
     s.seed = 5;
     s.wavefront = 512; // several rounds per phase
-    Bvh bvh = buildBvh(scene.vertices);
+    const std::vector<Bvh> trees = buildBvhs(scene.vertices, {device});
     auto context = std::make_unique<DeviceContext>(device);
-    MultiDeviceRender render({context.get()}, scene, bvh, s);
+    MultiDeviceRender render({context.get()}, scene, trees, s);
     int rounds = 0;
     bool abandoning = false;
     render.run(IterationSchedule{0, 1, 2}, 0, [] { return false; }, nullptr);

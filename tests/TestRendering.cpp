@@ -3,6 +3,7 @@
 
 #include "bvh/Bvh.h"
 #include "render/Renderer.h"
+#include "render/SceneBuffers.h"
 
 #include <gtest/gtest.h>
 
@@ -79,10 +80,7 @@ Material smoothGlass(float ior)
     return glass;
 }
 
-// One render on an existing context and tree (renderSeeds shares them
-// between its seeds: a context and the scene's tree per render cost the
-// seed loops of the convergence tests a share of their time).
-static Render renderOn(DeviceContext& device, const Scene& scene, const Bvh& bvh, Algorithm algorithm, int width,
+Render renderOn(DeviceContext& device, const Scene& scene, const Bvh& bvh, Algorithm algorithm, int width,
                        int height, int iterations, uint32_t seed, int maxPathLength, float radiusFactor)
 {
     RenderSettings s;
@@ -102,7 +100,7 @@ Render render(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, i
               uint32_t seed, int maxPathLength, float radiusFactor)
 {
     DeviceContext device(info);
-    Bvh bvh = buildBvh(scene.vertices);
+    Bvh bvh = buildBvh(scene.vertices, trianglePacketWidth(info));
     return renderOn(device, scene, bvh, algorithm, width, height, iterations, seed, maxPathLength, radiusFactor);
 }
 
@@ -110,7 +108,7 @@ std::vector<Image> renderSeeds(const DeviceInfo& info, const Scene& scene, Algor
                                int height, int iterations, int seeds, int maxPathLength, float radiusFactor)
 {
     DeviceContext device(info);
-    Bvh bvh = buildBvh(scene.vertices);
+    Bvh bvh = buildBvh(scene.vertices, trianglePacketWidth(info));
     std::vector<Image> out;
     for (int s = 1; s <= seeds; ++s)
         out.push_back(renderOn(device, scene, bvh, algorithm, width, height, iterations, uint32_t(s), maxPathLength,

@@ -2,6 +2,8 @@
 // iterations on a device, and comparing images tile by tile statistically.
 #pragma once
 
+#include "bvh/Bvh.h"
+#include "cl/DeviceContext.h"
 #include "cl/Devices.h"
 #include "image/Image.h"
 #include "render/Algorithm.h"
@@ -38,8 +40,16 @@ void meanAndStandardError(const Image& image, double* mean, double* se);
 void expectMean(const Render& r, double expected, double maxRelativeError);
 
 // `iterations` iterations of `algorithm` at width × height with a small
-// wavefront (several rounds of slot regeneration per iteration).
-// radiusFactor: the merge radius (RenderSettings).
+// wavefront (several rounds of slot regeneration per iteration), on an
+// existing context and tree (renderSeeds shares them between its seeds: a
+// context and the scene's tree per render cost the seed loops of the
+// convergence tests a share of their time). radiusFactor: the merge radius
+// (RenderSettings).
+Render renderOn(DeviceContext& device, const Scene& scene, const Bvh& bvh, Algorithm algorithm, int width,
+                int height, int iterations, uint32_t seed, int maxPathLength = 10, float radiusFactor = 0.003f);
+
+// The same on a context of its own, over the tree the device's packet
+// width gets in a render (trianglePacketWidth).
 Render render(const DeviceInfo& device, const Scene& scene, Algorithm algorithm, int width, int height,
               int iterations, uint32_t seed, int maxPathLength = 10, float radiusFactor = 0.003f);
 

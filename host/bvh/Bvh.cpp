@@ -21,6 +21,11 @@ namespace {
 
 constexpr int kBins = 16;
 constexpr int kMaxLeafSize = 8;
+// Nodes of at most this many triangles are binary leaves: one packet of the
+// narrower width, tested together whatever the tree below them would be.
+// Trees of wider packets take nodes of up to their width as leaves
+// (planWide), so one binary tree, and one triangle order, serves both.
+constexpr uint32_t kBinaryLeafTriangles = 4;
 // Nodes of at most this many triangles, most of the tree's, are binned and
 // partitioned by binSmall and partitionSmall (32, 64, 128 and 256 measured:
 // 64 as fast as any).
@@ -104,15 +109,15 @@ double scaledArea(const Bounds& b, double scale)
 
 // Costs are areas relative to the scene's box (areaScale = 1 / its area), so
 // they stay in float's range whatever the scene's scale.
-void planWide(BinaryNode& n, double areaScale)
+void planWide(BinaryNode& n, double areaScale, uint32_t packetWidth)
 {
     float area = float(scaledArea(n.bounds, areaScale));
-    uint32_t packets = (n.count + TRIANGLE_PACKET_WIDTH - 1) / TRIANGLE_PACKET_WIDTH;
+    uint32_t packets = (n.count + packetWidth - 1) / packetWidth;
     bool leafAllowed = packets <= BVH_LEAF_MAX_PACKETS;
     float leafCost = leafAllowed ? area * float(packets) * kPacketTestCost : INFINITY;
     std::fill(n.split, n.split + BVH_WIDTH, uint8_t(0));
     n.wideSplit = 0;
-    if (n.leaf()) {
+    if (n.leaf() || n.count <= packetWidth) { // one packet's triangles or fewer
         n.asLeaf = true;
         std::fill(n.cost, n.cost + BVH_WIDTH, leafCost);
         return;
@@ -213,8 +218,10 @@ public:
     // Subtrees at depth < parallelDepth are built in parallel: 2^parallelDepth
     // threads at most. The tree is the same for any parallelDepth.
     // sceneBounds: all the triangles' box.
-    Builder(LargeArray<BuildTriangle>& tris, NodeArrays& arrays, int parallelDepth, const Bounds& sceneBounds)
-        : tris_(tris), arrays_(arrays), parallelDepth_(parallelDepth)
+    // packetWidth: of the wide tree that the plans are made for (planWide).
+    Builder(LargeArray<BuildTriangle>& tris, NodeArrays& arrays, int parallelDepth, const Bounds& sceneBounds,
+            uint32_t packetWidth)
+        : tris_(tris), arrays_(arrays), parallelDepth_(parallelDepth), packetWidth_(packetWidth)
     {
         double area = scaledArea(sceneBounds, 1);
         areaScale_ = area > 0 ? 1 / area : 1;
@@ -231,11 +238,9 @@ public:
         n.first = n.second = nullptr;
         n.height = 0;
         Extent left, right;
-        // A node of at most one packet's triangles is a leaf: the wide tree
-        // tests them together whatever the binary tree below would be.
-        uint32_t mid = n.count > TRIANGLE_PACKET_WIDTH ? split(begin, end, extent, depth, &left, &right) : begin;
+        uint32_t mid = n.count > kBinaryLeafTriangles ? split(begin, end, extent, depth, &left, &right) : begin;
         if (mid == begin) { // leaf
-            planWide(n, areaScale_);
+            planWide(n, areaScale_, packetWidth_);
             return &n;
         }
 
@@ -250,7 +255,7 @@ public:
             n.second = node(out, mid, end, right, depth + 1);
         }
         n.height = 1 + std::max(n.first->height, n.second->height);
-        planWide(n, areaScale_);
+        planWide(n, areaScale_, packetWidth_);
         return &n;
     }
 
@@ -463,6 +468,7 @@ private:
     LargeArray<BuildTriangle>& tris_;
     NodeArrays& arrays_;
     int parallelDepth_;
+    uint32_t packetWidth_;
     double areaScale_;
 };
 
@@ -499,7 +505,7 @@ public:
         uint32_t begin, count, first;
     };
 
-    explicit Collapser(uint32_t deferBelow) : deferBelow_(deferBelow) {}
+    Collapser(uint32_t packetWidth, uint32_t deferBelow) : packetWidth_(packetWidth), deferBelow_(deferBelow) {}
 
     std::vector<BvhNode> nodes;
     std::vector<Leaf> leaves;
@@ -513,8 +519,8 @@ public:
         depth = std::max(depth, level);
         const BinaryNode* children[BVH_WIDTH];
         int k = 0;
-        if (b->leaf()) {
-            children[k++] = b; // the root of a tiny scene
+        if (b->leaf() || b->count <= packetWidth_) {
+            children[k++] = b; // the root of a tiny scene: one leaf
         } else {
             addRoots(b->first, b->wideSplit, children, k);
             addRoots(b->second, BVH_WIDTH - b->wideSplit, children, k);
@@ -557,8 +563,9 @@ public:
 
     // Copies this subtree to nodes[nodeBase...] and writes its packets to
     // packets[packetBase...], moving the indices by those bases.
+    template <typename Packet>
     void place(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, BvhNode* nodesOut,
-               int nodeBase, TrianglePacket* packetsOut, int packetBase) const
+               int nodeBase, Packet* packetsOut, int packetBase) const
     {
         for (size_t n = 0; n < nodes.size(); ++n) {
             BvhNode node = nodes[n];
@@ -588,13 +595,14 @@ private:
     // Reserves packets for triangles [begin, begin + count); returns the child code.
     int leaf(uint32_t begin, uint32_t count)
     {
-        uint32_t n = (count + TRIANGLE_PACKET_WIDTH - 1) / TRIANGLE_PACKET_WIDTH;
+        uint32_t n = (count + packetWidth_ - 1) / packetWidth_;
         if (n > BVH_LEAF_MAX_PACKETS) throw Error("internal error: a BVH leaf has too many triangles");
         leaves.push_back({begin, count, packetCount});
         packetCount += n;
         return ~int(8 * (packetCount - n) + n - 1);
     }
 
+    uint32_t packetWidth_;
     uint32_t deferBelow_;
 };
 
@@ -609,11 +617,12 @@ void collapse(const std::vector<Vec3>& vertices, const BinaryNode* root, int sta
     // Tasks of about 1/16 of the triangles per core balance the cores; small
     // scenes are collapsed on one.
     uint32_t deferBelow = threads > 1 && root->count >= kParallelMinTriangles ? root->count / (16 * threads) : 0;
-    std::vector<Collapser> parts(1, Collapser(deferBelow)); // the top, then a part per task
+    const uint32_t width = uint32_t(bvh.packetWidth());
+    std::vector<Collapser> parts(1, Collapser(width, deferBelow)); // the top, then a part per task
     parts[0].nodes.emplace_back();
     parts[0].fill(0, root, stackBudget, 1);
     const std::vector<Collapser::Task> tasks = std::move(parts[0].tasks);
-    parts.resize(1 + tasks.size(), Collapser(0));
+    parts.resize(1 + tasks.size(), Collapser(width, 0));
     parallelFor(tasks.size(), [&](size_t i) {
         Collapser& part = parts[1 + i];
         part.nodes.emplace_back();
@@ -632,10 +641,15 @@ void collapse(const std::vector<Vec3>& vertices, const BinaryNode* root, int sta
     if (packetCount > size_t(INT32_MAX >> 3)) throw Error("too many triangles for the BVH's leaf encoding");
     for (size_t i = 0; i < tasks.size(); ++i) parts[0].nodes[tasks[i].parent].child[tasks[i].slot] = nodeBase[1 + i];
     bvh.nodes.resize(nodeCount);
-    bvh.packets.resize(packetCount);
-    parallelFor(parts.size(), [&](size_t p) {
-        parts[p].place(vertices, bvh.triangleOrder, bvh.nodes.data(), nodeBase[p], bvh.packets.data(), packetBase[p]);
-    });
+    std::visit(
+        [&](auto& packets) {
+            packets.resize(packetCount);
+            parallelFor(parts.size(), [&](size_t p) {
+                parts[p].place(vertices, bvh.triangleOrder, bvh.nodes.data(), nodeBase[p], packets.data(),
+                               packetBase[p]);
+            });
+        },
+        bvh.packets);
 }
 
 // Σ over the subtree's nodes of area(node) · (traversal cost, or triangles for a leaf).
@@ -682,16 +696,18 @@ void* allocateLargeArray(size_t bytes)
     return p;
 }
 
+template <typename Packet>
 void writePackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
-                  uint32_t count, TrianglePacket* out)
+                  uint32_t count, Packet* out)
 {
-    for (uint32_t p = 0; p * TRIANGLE_PACKET_WIDTH < count; ++p) {
-        TrianglePacket& packet = out[p];
-        for (uint32_t lane = 0; lane < TRIANGLE_PACKET_WIDTH; ++lane) {
-            uint32_t slot = p * TRIANGLE_PACKET_WIDTH + lane;
+    constexpr uint32_t width = sizeof(Packet::triangle) / sizeof(Packet::triangle[0]);
+    for (uint32_t p = 0; p * width < count; ++p) {
+        Packet& packet = out[p];
+        for (uint32_t lane = 0; lane < width; ++lane) {
+            uint32_t slot = p * width + lane;
             bool real = slot < count;
             // Padding repeats the packet's first triangle, so no lane is degenerate.
-            uint32_t position = begin + (real ? slot : p * TRIANGLE_PACKET_WIDTH);
+            uint32_t position = begin + (real ? slot : p * width);
             packet.triangle[lane] = real ? int(position) : -1;
             for (int v = 0; v < 3; ++v)
                 for (int a = 0; a < 3; ++a) packet.v[v][a][lane] = vertices[3 * order[position] + v][a];
@@ -699,17 +715,26 @@ void writePackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>
     }
 }
 
+template <typename Packet>
 void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
-                   uint32_t count, std::vector<TrianglePacket>& packets)
+                   uint32_t count, std::vector<Packet>& packets)
 {
+    constexpr uint32_t width = sizeof(Packet::triangle) / sizeof(Packet::triangle[0]);
     size_t first = packets.size();
-    packets.resize(first + (count + TRIANGLE_PACKET_WIDTH - 1) / TRIANGLE_PACKET_WIDTH);
+    packets.resize(first + (count + width - 1) / width);
     writePackets(vertices, order, begin, count, packets.data() + first);
 }
 
-Bvh buildBvh(const std::vector<Vec3>& vertices, int stackBudget)
+template void appendPackets(const std::vector<Vec3>&, const std::vector<uint32_t>&, uint32_t, uint32_t,
+                            std::vector<TrianglePacket4>&);
+template void appendPackets(const std::vector<Vec3>&, const std::vector<uint32_t>&, uint32_t, uint32_t,
+                            std::vector<TrianglePacket8>&);
+
+Bvh buildBvh(const std::vector<Vec3>& vertices, int packetWidth, int stackBudget)
 {
     auto start = std::chrono::steady_clock::now();
+    if (packetWidth != 4 && packetWidth != 8)
+        throw Error("internal error: triangle packets are 4 or 8 wide, not " + std::to_string(packetWidth));
     size_t count = vertices.size() / 3;
     if (count == 0) throw Error("cannot build a BVH over no triangles");
     if (count > size_t(INT32_MAX) / 3) throw Error("too many triangles for 32-bit indices");
@@ -742,12 +767,13 @@ Bvh buildBvh(const std::vector<Vec3>& vertices, int stackBudget)
     for (unsigned threads = std::max(1u, std::thread::hardware_concurrency()); (1u << (parallelDepth - 4)) < threads;)
         ++parallelDepth;
     NodeArrays arrays;
-    Builder builder(tris, arrays, parallelDepth, all.bounds.bounds());
+    Builder builder(tris, arrays, parallelDepth, all.bounds.bounds(), uint32_t(packetWidth));
     const BinaryNode* root = builder.node(arrays.add(count), 0, uint32_t(count), all, 0);
     // The SAH cost, a walk of the whole binary tree that only --stats
     // reads, is summed beside the collapse.
     std::future<double> cost = std::async(std::launch::async, [root] { return sahCost(root); });
     Bvh bvh;
+    if (packetWidth == 8) bvh.packets = LargeArray<TrianglePacket8>();
     bvh.triangleOrder.resize(count);
     parallelFor(kChunks, [&](size_t chunk) {
         for (size_t i = count * chunk / kChunks; i < count * (chunk + 1) / kChunks; ++i)

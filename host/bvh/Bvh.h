@@ -11,6 +11,7 @@
 #include <memory>
 #include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace wv {
@@ -52,38 +53,53 @@ struct LargeArrayAllocator {
 template <typename T>
 using LargeArray = std::vector<T, LargeArrayAllocator<T>>;
 
+// A tree's triangle packets: four or eight triangles wide.
+using TrianglePackets = std::variant<LargeArray<TrianglePacket4>, LargeArray<TrianglePacket8>>;
+
 struct Bvh {
     LargeArray<BvhNode> nodes; // the root first
-    LargeArray<TrianglePacket> packets;
-    // triangleOrder[i] is the scene triangle stored at BVH position i.
+    TrianglePackets packets;
+    // triangleOrder[i] is the scene triangle stored at BVH position i: the
+    // same for either packet width (the binary tree does not depend on it).
     std::vector<uint32_t> triangleOrder;
     int depth = 0;          // levels of wide nodes
     int binaryHeight = 0;   // of the binary tree it was collapsed from (a leaf: 0)
     // Of the binary tree the wide one is collapsed from (leaves of at most
-    // TRIANGLE_PACKET_WIDTH triangles, or more where SAH says so), per ray into
-    // the root's box: traversal step 1, triangle test 1.
+    // four triangles, or more where SAH says so), per ray into the root's
+    // box: traversal step 1, triangle test 1.
     double sahCost = 0;
     double buildSeconds = 0;
+
+    int packetWidth() const { return packets.index() == 0 ? 4 : 8; }
+    size_t packetCount() const { return std::visit([](const auto& p) { return p.size(); }, packets); }
+    size_t packetBytes() const
+    {
+        return std::visit([](const auto& p) { return p.size() * sizeof(p[0]); }, packets);
+    }
+    const void* packetData() const { return std::visit([](const auto& p) -> const void* { return p.data(); }, packets); }
 };
 
 // The binary tree's depth bound (BVH_STACK_SIZE in shared_types.h is the
 // traversal stack): a tree this deep can be collapsed within the stack.
 constexpr int kMaxBvhDepth = BVH_STACK_SIZE - 1;
 
-// `vertices` holds three vertices per triangle. Throws if there are none.
+// `vertices` holds three vertices per triangle; packetWidth is 4 or 8
+// (TrianglePacket4, TrianglePacket8). Throws if there are no triangles.
 // stackBudget: the most stack entries a traversal of the wide tree may hold;
 // at least the binary tree's height (tests pass that height, so that the
 // collapse must fall back to binary nodes where eight children would not fit).
-Bvh buildBvh(const std::vector<Vec3>& vertices, int stackBudget = kMaxBvhDepth);
+Bvh buildBvh(const std::vector<Vec3>& vertices, int packetWidth = 8, int stackBudget = kMaxBvhDepth);
 
 // Writes the packets of BVH positions [begin, begin + count), in order, to
-// out[0, ceil(count / TRIANGLE_PACKET_WIDTH)); the vertices of position i are
-// vertices[3 · order[i] + k].
+// out[0, ceil(count / width)) (Packet: TrianglePacket4 or TrianglePacket8, of
+// that width); the vertices of position i are vertices[3 · order[i] + k].
+template <typename Packet>
 void writePackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
-                  uint32_t count, TrianglePacket* out);
+                  uint32_t count, Packet* out);
 
 // Appends the packets of BVH positions [begin, begin + count) (writePackets).
+template <typename Packet>
 void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
-                   uint32_t count, std::vector<TrianglePacket>& packets);
+                   uint32_t count, std::vector<Packet>& packets);
 
 } // namespace wv

@@ -270,9 +270,10 @@ int runRender(const RenderOptions& o)
     for (const DeviceInfo& d : selected)
         for (const DeviceInfo& p : pipelineDevices(d, pipelinesOf(d))) chosen.push_back(p);
 
-    Bvh bvh = buildBvh(scene.vertices);
+    const std::vector<Bvh> trees = buildBvhs(scene.vertices, chosen);
+    const Bvh& bvh = bvhFor(trees, chosen[0]); // for the statistics
     DeviceContexts contexts(chosen, o.profile);
-    MultiDeviceRender render(contexts.pointers, scene, bvh, settings);
+    MultiDeviceRender render(contexts.pointers, scene, trees, settings);
     double setupSeconds = since(setupStart);
     for (size_t i = 0; i < render.deviceCount() && !quiet; ++i)
         std::fprintf(stderr, "wavevcm: %s, %zu triangles, %dx%d, %s on %s (%s); setup %.2f s (kernels %.2f s%s)\n",
@@ -405,7 +406,8 @@ int runRender(const RenderOptions& o)
             {"triangles", scene.triangleCount()},
             {"bvh_nodes", bvh.nodes.size()},
             {"bvh_depth", bvh.depth},
-            {"bvh_triangle_packets", bvh.packets.size()},
+            {"bvh_triangle_packets", bvh.packetCount()},
+            {"bvh_packet_width", bvh.packetWidth()},
             {"bvh_sah_cost", bvh.sahCost},
             {"bvh_build_seconds", bvh.buildSeconds},
             {"kernel_build_seconds", render.renderer(0).programBuild().seconds},

@@ -9,6 +9,9 @@ namespace wv {
 // The element types the lists name, for their sizes on the host.
 using float4 = cl_float4;
 using float2 = cl_float2;
+// TrianglePacket4 or TrianglePacket8 by the device's tree (SceneBuffers.h):
+// the program picks one, the host sees bytes.
+using TrianglePacket = unsigned char;
 } // namespace wv
 
 #include "../../kernels/interface/kernel_interface.h"

@@ -8,11 +8,12 @@
 
 namespace wv {
 
-MultiDeviceRender::MultiDeviceRender(const std::vector<DeviceContext*>& devices, const Scene& scene, const Bvh& bvh,
-                                     const RenderSettings& settings)
+MultiDeviceRender::MultiDeviceRender(const std::vector<DeviceContext*>& devices, const Scene& scene,
+                                     const std::vector<Bvh>& trees, const RenderSettings& settings)
     : devices_(devices)
 {
-    for (DeviceContext* d : devices) renderers_.push_back(std::make_unique<Renderer>(*d, scene, bvh, settings));
+    for (DeviceContext* d : devices)
+        renderers_.push_back(std::make_unique<Renderer>(*d, scene, bvhFor(trees, d->info), settings));
 }
 
 void MultiDeviceRender::run(const IterationSchedule& schedule, double seconds, const std::function<bool()>& stop,

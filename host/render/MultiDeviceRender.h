@@ -42,7 +42,8 @@ struct DeviceContexts {
 
 class MultiDeviceRender {
 public:
-    MultiDeviceRender(const std::vector<DeviceContext*>& devices, const Scene& scene, const Bvh& bvh,
+    // trees: the scene's BVH for each device's packet width (buildBvhs).
+    MultiDeviceRender(const std::vector<DeviceContext*>& devices, const Scene& scene, const std::vector<Bvh>& trees,
                       const RenderSettings& settings);
 
     // After each iteration, on the thread of the device that ran it (calls

@@ -153,6 +153,7 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     std::string source = expandKernelSources(findKernelDir(), kernelFiles(algorithm));
     build_ = buildProgram(device.context, device.info, source,
                           programOptions(algorithm, scene.features(), lights_.info.lightCount, connectionQueue_) +
+                              " -DTRIANGLE_PACKET_WIDTH=" + std::to_string(sceneBuffers_.packetWidth) +
                               deviceOptions(device.info, scene.features(), algorithm));
 
     // One fixed local size: PoCL compiles a work-group function per local

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 
 #include <sys/mman.h>
@@ -81,6 +82,38 @@ cl::Buffer deviceBuffer(DeviceContext& device, size_t bytes, const std::string& 
     }
 }
 
+int trianglePacketWidth(const DeviceInfo& device)
+{
+    if (const char* forced = std::getenv("WAVEVCM_TRIANGLE_PACKET_WIDTH")) {
+        std::string w = forced;
+        if (w == "4" || w == "8") return std::stoi(w);
+        throw Error("WAVEVCM_TRIANGLE_PACKET_WIDTH is \"" + w + "\"; it takes 4 or 8");
+    }
+    bool avx = device.isPocl() && (device.type & CL_DEVICE_TYPE_CPU) &&
+               device.device.getInfo<CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT>() >= 8;
+    return avx ? 8 : 4;
+}
+
+std::vector<Bvh> buildBvhs(const std::vector<Vec3>& vertices, const std::vector<DeviceInfo>& devices)
+{
+    std::vector<Bvh> trees;
+    for (const DeviceInfo& d : devices) {
+        int width = trianglePacketWidth(d);
+        bool built = false;
+        for (const Bvh& t : trees) built = built || t.packetWidth() == width;
+        if (!built) trees.push_back(buildBvh(vertices, width));
+    }
+    return trees;
+}
+
+const Bvh& bvhFor(const std::vector<Bvh>& trees, const DeviceInfo& device)
+{
+    int width = trianglePacketWidth(device);
+    for (const Bvh& bvh : trees)
+        if (bvh.packetWidth() == width) return bvh;
+    throw Error("internal error: no BVH of packets " + std::to_string(width) + " wide for " + device.label());
+}
+
 cl::Buffer uploadBuffer(DeviceContext& device, const void* data, size_t bytes, const std::string& what)
 {
     checkAllocation(device, bytes, what);
@@ -133,7 +166,9 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
         return uploadBuffer(device, v.data(), b, what);
     };
     nodes = upload(bvh.nodes, "the BVH");
-    trianglePackets = upload(bvh.packets, "the BVH's triangle packets");
+    trianglePackets = uploadBuffer(device, bvh.packetData(), bvh.packetBytes(), "the BVH's triangle packets");
+    bytes += bvh.packetBytes();
+    packetWidth = bvh.packetWidth();
     triVertices = upload(vertices, "the triangle vertices");
     triNormals = upload(normals, "the vertex normals");
     triMaterials = upload(triMaterial, "the triangle materials");

@@ -12,7 +12,8 @@ namespace wv {
 
 struct SceneBuffers {
     cl::Buffer nodes;            // BvhNode[]
-    cl::Buffer trianglePackets;  // TrianglePacket[]: the BVH leaves' triangles
+    cl::Buffer trianglePackets;  // TrianglePacket4[] or TrianglePacket8[]: the BVH leaves' triangles
+    int packetWidth = 0;         // the tree's: the program's TRIANGLE_PACKET_WIDTH
     cl::Buffer triVertices;      // float4[3 · triangles], BVH order
     cl::Buffer triNormals;       // float4[3 · triangles] with vertex normals, else 1 float4
     cl::Buffer triMaterials;     // int[triangles]
@@ -38,6 +39,19 @@ struct SceneBuffers {
     // but the camera, which depends on the image size).
     void bind(KernelBuffers& b) const;
 };
+
+// The triangle packet width of the tree to build for `device` (buildBvh):
+// 8 where the device's compiler tests eight lanes in one instruction
+// (PoCL's CPU devices with AVX, whose native float vector is 8 or 16 wide:
+// kernels/geometry/intersect_triangle.h), else 4 (GPUs, whose threads run a
+// vector's lanes one after another; rusticl; CPUs without AVX).
+int trianglePacketWidth(const DeviceInfo& device);
+
+// The scene's BVH for each packet width the devices take, built once each.
+std::vector<Bvh> buildBvhs(const std::vector<Vec3>& vertices, const std::vector<DeviceInfo>& devices);
+
+// The one BVH of `trees` built for the device's packet width; throws if none is.
+const Bvh& bvhFor(const std::vector<Bvh>& trees, const DeviceInfo& device);
 
 // A read-only device buffer holding `bytes` bytes copied from `data`; checks
 // the device's maximum allocation first. `what` names it in the error.

@@ -413,7 +413,7 @@ void writeReport(const ReportOptions& o)
         RenderSettings base = renderSettings(o.render, scene);
         result.width = base.width;
         result.height = base.height;
-        Bvh bvh = buildBvh(scene.vertices);
+        const std::vector<Bvh> trees = buildBvhs(scene.vertices, {selected});
 
         // Renders `settings` for `seconds` of render time (whole iterations),
         // calling `after` after each iteration with the image, iterations and
@@ -423,9 +423,9 @@ void writeReport(const ReportOptions& o)
         // be charged to whichever render came first.
         auto renderFor = [&](RenderSettings settings, double seconds, const std::string& what, auto after) {
             progress.update(done, result.name + ": " + what + " (warming up)");
-            MultiDeviceRender(pipelines, scene, bvh, settings)
+            MultiDeviceRender(pipelines, scene, trees, settings)
                 .run(IterationSchedule{0, 1, int(pipelines.size())}, 0, [] { return false; }, nullptr);
-            auto render = std::make_unique<MultiDeviceRender>(pipelines, scene, bvh, settings);
+            auto render = std::make_unique<MultiDeviceRender>(pipelines, scene, trees, settings);
             render->run(IterationSchedule{}, seconds, [] { return false; },
                         [&](Renderer& finished, int iterations, double rendered) {
                             after(render->runningImage(finished), iterations, rendered);

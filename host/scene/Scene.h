@@ -14,7 +14,7 @@ namespace wv {
 
 // Layout checks for the structs shared with the kernels (see shared_types.h).
 static_assert(sizeof(BvhNode) == 7 * 4 * BVH_WIDTH, "BvhNode layout");
-static_assert(sizeof(TrianglePacket) == 40 * TRIANGLE_PACKET_WIDTH, "TrianglePacket layout");
+static_assert(sizeof(TrianglePacket4) == 40 * 4 && sizeof(TrianglePacket8) == 40 * 8, "TrianglePacket layout");
 static_assert(sizeof(Camera) == 64, "Camera layout");
 static_assert(sizeof(Material) == 128, "Material layout");
 static_assert(sizeof(TextureInfo) == 48, "TextureInfo layout");

@@ -21,17 +21,15 @@
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
 
-#if TRIANGLE_PACKET_WIDTH != 8
-#error "intersect_packet is written for packets of eight triangles"
-#endif
-
-/* Lanes tested at once: the whole packet where the device has 8-wide float
- * vectors (on AVX CPUs one instruction tests eight triangles as it would
- * four: against packets of four, pt's iterations on the Cornell box 1.07x),
- * otherwise each half on its own (a GPU thread, which runs a vector's lanes
- * one after another, then keeps four lanes' values live, not eight).
- * floatp and intp (doublep) hold them. */
-#if defined(__AVX__)
+/* Lanes tested at once: a packet of eight in one test where the device has
+ * 8-wide float vectors (on AVX CPUs one instruction tests eight triangles as
+ * it would four: against packets of four, pt's iterations on the Cornell box
+ * 1.07x), otherwise four (a GPU thread runs a vector's lanes one after
+ * another, and keeps four lanes' values live, not eight). The host gives
+ * devices without AVX trees of packets of four (host/render/SceneBuffers.h);
+ * a tree of eights there is tested half by half. floatp and intp (doublep)
+ * hold the lanes. */
+#if TRIANGLE_PACKET_WIDTH == 8 && defined(__AVX__)
 #define PACKET_TEST_WIDTH 8
 #define PACKET_LANE_BITS ((int8)(1, 2, 4, 8, 16, 32, 64, 128))
 #else
@@ -93,16 +91,33 @@ INLINE int lane_mask(intp m)
 #elif defined(__SSE__) && PACKET_TEST_WIDTH == 4
     return __builtin_ia32_movmskps(as_float4(m));
 #else
-    int lanes[PACKET_TEST_WIDTH];
-    vstorep(m, 0, lanes);
-    int bits = 0;
-    for (int i = 0; i < PACKET_TEST_WIDTH; ++i)
-        bits |= (lanes[i] < 0) << i;
-    return bits;
+    /* In registers: a private array indexed in a loop lands on a GPU's stack. */
+    intp bits = (m >> 31) & PACKET_LANE_BITS;
+#if PACKET_TEST_WIDTH == 8
+    int4 b = bits.lo | bits.hi;
+#else
+    int4 b = bits;
+#endif
+    return b.s0 | b.s1 | b.s2 | b.s3;
 #endif
 }
 
-INLINE bool any_lane(intp m) { return lane_mask(m) != 0; }
+/* Whether any lane of m has its sign bit set. */
+INLINE bool any_lane(intp m)
+{
+#if defined(__SSE__)
+    return lane_mask(m) != 0; /* one movmskps */
+#else
+    /* The lanes ORed, no shifts or masks: for sm_90, extend with every
+     * scene feature took 150 registers so, 165 through lane_mask. */
+#if PACKET_TEST_WIDTH == 8
+    int4 b = m.lo | m.hi;
+#else
+    int4 b = m;
+#endif
+    return (b.s0 | b.s1 | b.s2 | b.s3) < 0;
+#endif
+}
 
 /* The index of the lowest set bit of m != 0. */
 INLINE int lowest_bit(int m) { return 31 - clz(m & -m); }
@@ -115,9 +130,15 @@ INLINE floatp min_of(floatp a, floatp b) { return select(b, a, a < b); }
 
 INLINE float packet_lane(floatp v, int lane)
 {
+#if PACKET_TEST_WIDTH == 8
+    /* AVX only: one store and one indexed load. */
     float lanes[PACKET_TEST_WIDTH];
     vstorep(v, 0, lanes);
     return lanes[lane];
+#else
+    /* Selects, which a GPU keeps in registers. */
+    return lane == 0 ? v.s0 : lane == 1 ? v.s1 : lane == 2 ? v.s2 : v.s3;
+#endif
 }
 
 /* The smallest lane of v. */
@@ -225,11 +246,10 @@ INLINE int intersect_packet(const ShearedRay* s, __global const TrianglePacket* 
 #if PACKET_TEST_WIDTH == TRIANGLE_PACKET_WIDTH
     return intersect_lanes(s, p, 0, tMax, excluded, t, b1, b2);
 #else
-    /* Part by part, in a loop that is not unrolled: unrolled, the GPU
-     * compiler scheduled both parts' loads together (extend for sm_90: 231
-     * registers, against 162 as a loop). Only nearer hits replace an earlier
-     * part's; a part of padding alone, past the real triangles, ends the
-     * packet. */
+    /* Half by half, in a loop that is not unrolled: unrolled, the GPU
+     * compiler scheduled both halves' loads together (extend for sm_90: 231
+     * registers, against 162 as a loop). Only nearer hits replace the first
+     * half's; a second half of padding alone ends the packet. */
     int lane = -1;
 #pragma nounroll
     for (int part = 0; part < TRIANGLE_PACKET_WIDTH / PACKET_TEST_WIDTH; ++part) {

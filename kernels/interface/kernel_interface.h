@@ -132,10 +132,11 @@ typedef struct LaunchParams {
  * build log, instead of reading their arguments and buffers wrongly. */
 #define RENDER_BUFFER_COUNT_ONE(space, type, name, perSlot) +1u
 #define STRUCT_LAYOUT                                                                                        \
-    ((uint)sizeof(LaunchParams) + 3u * (uint)sizeof(BvhNode) + 5u * (uint)sizeof(TrianglePacket) +               \
+    ((uint)sizeof(LaunchParams) + 3u * (uint)sizeof(BvhNode) + 5u * (uint)sizeof(TrianglePacket4) +              \
      7u * (uint)sizeof(Camera) + 11u * (uint)sizeof(Material) + 13u * (uint)sizeof(TextureInfo) +                 \
      17u * (uint)sizeof(Light) + 19u * (uint)sizeof(SurfaceRecord) + 23u * (uint)sizeof(LightVertex) +            \
-     29u * (uint)sizeof(MergeVertex) + 31u * (uint)sizeof(SceneInfo) + 37u * (0u RENDER_BUFFERS(RENDER_BUFFER_COUNT_ONE)))
+     29u * (uint)sizeof(MergeVertex) + 31u * (uint)sizeof(SceneInfo) + 41u * (uint)sizeof(TrianglePacket8) +      \
+     37u * (0u RENDER_BUFFERS(RENDER_BUFFER_COUNT_ONE)))
 #if defined(__OPENCL_C_VERSION__) && defined(HOST_STRUCT_LAYOUT)
 typedef char kernel_sources_declare_shared_structs_otherwise_than_the_wavevcm_binary_rebuild_it
     [STRUCT_LAYOUT == HOST_STRUCT_LAYOUT ? 1 : -1];

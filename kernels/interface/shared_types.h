@@ -32,18 +32,34 @@ typedef struct BvhNode {
     int child[BVH_WIDTH];
 } BvhNode;
 
-/* TRIANGLE_PACKET_WIDTH triangles of one leaf, tested together: v[k][a][i]
- * is coordinate a of vertex k of the packet's triangle i; triangle[i] its
- * index in the BVH-ordered triangle arrays, -1 for padding (a copy of a real
- * triangle of the packet, never reported). A packet's real triangles come
- * first. Devices test eight lanes at once where they have 8-wide float
- * vectors (AVX), otherwise each half of four on its own
+/* W triangles of one leaf, tested together: v[k][a][i] is coordinate a of
+ * vertex k of the packet's triangle i; triangle[i] its index in the
+ * BVH-ordered triangle arrays, -1 for padding (a copy of a real triangle of
+ * the packet, never reported). A packet's real triangles come first.
+ * Packets are four or eight triangles wide: the host builds each device's
+ * tree for the width its vector unit tests at once (host/render/SceneBuffers.h,
+ * trianglePacketWidth) and passes it to the program as TRIANGLE_PACKET_WIDTH
  * (geometry/intersect_triangle.h). */
-#define TRIANGLE_PACKET_WIDTH 8
-typedef struct TrianglePacket {
-    float v[3][3][TRIANGLE_PACKET_WIDTH];
-    int triangle[TRIANGLE_PACKET_WIDTH];
-} TrianglePacket;
+#define DECLARE_TRIANGLE_PACKET(W)                                                                           \
+    typedef struct TrianglePacket##W {                                                                       \
+        float v[3][3][W];                                                                                    \
+        int triangle[W];                                                                                     \
+    } TrianglePacket##W;
+DECLARE_TRIANGLE_PACKET(4)
+DECLARE_TRIANGLE_PACKET(8)
+#undef DECLARE_TRIANGLE_PACKET
+#ifdef __OPENCL_C_VERSION__
+#ifndef TRIANGLE_PACKET_WIDTH
+#define TRIANGLE_PACKET_WIDTH 8 /* test programs; the renderer always passes its tree's */
+#endif
+#if TRIANGLE_PACKET_WIDTH == 8
+typedef TrianglePacket8 TrianglePacket;
+#elif TRIANGLE_PACKET_WIDTH == 4
+typedef TrianglePacket4 TrianglePacket;
+#else
+#error "TRIANGLE_PACKET_WIDTH must be 4 or 8"
+#endif
+#endif
 
 /* Pinhole camera. A pixel (x, y) with sub-pixel jitter (u, v) maps to the
  * direction forward + (2(x+u)/W - 1)·right + (1 - 2(y+v)/H)·up; right and up
