@@ -472,6 +472,31 @@ private:
     double areaScale_;
 };
 
+// The lanes of a TrianglePacket4 or TrianglePacket8.
+template <typename Packet>
+constexpr uint32_t kPacketLanes = sizeof(Packet::triangle) / sizeof(Packet::triangle[0]);
+
+// Writes the packets of BVH positions [begin, begin + count), in order, to
+// out[0, ceil(count / lanes)) (appendPackets).
+template <typename Packet>
+void writePackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
+                  uint32_t count, Packet* out)
+{
+    constexpr uint32_t width = kPacketLanes<Packet>;
+    for (uint32_t p = 0; p * width < count; ++p) {
+        Packet& packet = out[p];
+        for (uint32_t lane = 0; lane < width; ++lane) {
+            uint32_t slot = p * width + lane;
+            bool real = slot < count;
+            // Padding repeats the packet's first triangle, so no lane is degenerate.
+            uint32_t position = begin + (real ? slot : p * width);
+            packet.triangle[lane] = real ? int(position) : -1;
+            for (int v = 0; v < 3; ++v)
+                for (int a = 0; a < 3; ++a) packet.v[v][a][lane] = vertices[3 * order[position] + v][a];
+        }
+    }
+}
+
 // The wide tree from the binary one, as planWide planned it: each wide node
 // takes the roots its binary node's plan splits it into, each a leaf or a
 // wide node of its own.
@@ -697,29 +722,10 @@ void* allocateLargeArray(size_t bytes)
 }
 
 template <typename Packet>
-void writePackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
-                  uint32_t count, Packet* out)
-{
-    constexpr uint32_t width = sizeof(Packet::triangle) / sizeof(Packet::triangle[0]);
-    for (uint32_t p = 0; p * width < count; ++p) {
-        Packet& packet = out[p];
-        for (uint32_t lane = 0; lane < width; ++lane) {
-            uint32_t slot = p * width + lane;
-            bool real = slot < count;
-            // Padding repeats the packet's first triangle, so no lane is degenerate.
-            uint32_t position = begin + (real ? slot : p * width);
-            packet.triangle[lane] = real ? int(position) : -1;
-            for (int v = 0; v < 3; ++v)
-                for (int a = 0; a < 3; ++a) packet.v[v][a][lane] = vertices[3 * order[position] + v][a];
-        }
-    }
-}
-
-template <typename Packet>
 void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
                    uint32_t count, std::vector<Packet>& packets)
 {
-    constexpr uint32_t width = sizeof(Packet::triangle) / sizeof(Packet::triangle[0]);
+    constexpr uint32_t width = kPacketLanes<Packet>;
     size_t first = packets.size();
     packets.resize(first + (count + width - 1) / width);
     writePackets(vertices, order, begin, count, packets.data() + first);

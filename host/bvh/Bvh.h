@@ -84,20 +84,16 @@ struct Bvh {
 constexpr int kMaxBvhDepth = BVH_STACK_SIZE - 1;
 
 // `vertices` holds three vertices per triangle; packetWidth is 4 or 8
-// (TrianglePacket4, TrianglePacket8). Throws if there are no triangles.
+// (TrianglePacket4, TrianglePacket8; a device's is trianglePacketWidth in
+// render/SceneBuffers.h). Throws if there are no triangles.
 // stackBudget: the most stack entries a traversal of the wide tree may hold;
 // at least the binary tree's height (tests pass that height, so that the
 // collapse must fall back to binary nodes where eight children would not fit).
 Bvh buildBvh(const std::vector<Vec3>& vertices, int packetWidth = 8, int stackBudget = kMaxBvhDepth);
 
-// Writes the packets of BVH positions [begin, begin + count), in order, to
-// out[0, ceil(count / width)) (Packet: TrianglePacket4 or TrianglePacket8, of
-// that width); the vertices of position i are vertices[3 · order[i] + k].
-template <typename Packet>
-void writePackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
-                  uint32_t count, Packet* out);
-
-// Appends the packets of BVH positions [begin, begin + count) (writePackets).
+// Appends the packets of BVH positions [begin, begin + count), in order, to
+// `packets` (Packet: TrianglePacket4 or TrianglePacket8); the vertices of
+// position i are vertices[3 · order[i] + k].
 template <typename Packet>
 void appendPackets(const std::vector<Vec3>& vertices, const std::vector<uint32_t>& order, uint32_t begin,
                    uint32_t count, std::vector<Packet>& packets);
