@@ -10,7 +10,8 @@
 #      512 x 512 for KIT_SECONDS (default 5) with --profile and --stats, and
 #      pt and vcm at 1024 x 1024 (a wavefront of 1M paths), bpt and vcm
 #      with vertex connections traced inline (the GPU default queues them),
-#      pt with 1, 4 and 8 samples per iteration, vcm with 1 and 4, pt and vcm as 2 and 4 pipelines sharing
+#      pt and vcm with packets of eight triangles (WAVEVCM_TRIANGLE_PACKET_WIDTH=8;
+#      a GPU's tree has packets of four), pt with 1, 4 and 8 samples per iteration, vcm with 1 and 4, pt and vcm as 2 and 4 pipelines sharing
 #      the GPU, and pt and vcm with NVIDIA's compiler held to 64 registers
 #      (WAVEVCM_CL_OPTIONS=-cl-nv-maxrregcount=64);
 #   1a. (not by default) --rounds-ahead 0 to 8 for pt and vcm;
@@ -126,6 +127,13 @@ for alg in $algorithms; do
     step $((seconds + 20)) "$kit/bin/wavevcm" render "scenes/$scene.gltf" -a "$alg" -d "$device" -t "$seconds" \
       --profile --stats "$work/stats/$scene-$alg.json" -o "$work/speed.pfm"
   done
+done
+# Packets of eight triangles, which a GPU tests half by half, against the
+# four its tree gets by default (trianglePacketWidth; docs/performance.md,
+# "A tree per packet width").
+for alg in pt vcm; do
+  WAVEVCM_TRIANGLE_PACKET_WIDTH=8 step $((seconds + 20)) "$kit/bin/wavevcm" render scenes/cornell-box.gltf -a "$alg" \
+    -d "$device" -t "$seconds" --profile --stats "$work/stats/cornell-box-packets8-$alg.json" -o "$work/speed.pfm"
 done
 # A larger image: does a wavefront of 1M paths (1024 x 1024) keep the GPU
 # busier than 262K (512 x 512)? Samples/s in --stats says.
