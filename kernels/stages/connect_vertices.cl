@@ -81,11 +81,17 @@ INLINE bool connect_to_light_vertex(const RenderBuffers* b, const LaunchParams* 
 /* The first light vertex that entry i + D of the hit queue connects to (its
  * light path's last), whose line came in just before its use when hinted
  * only by its own work-item: 19 % of the kernel's samples waited there. The
- * entry's pathPixel came with prefetch_hit_state's hint D entries ago. */
+ * entry's pathPixel came with prefetch_hit_state's hint D entries ago; its
+ * lightPathHead entry with the hint here D/2 entries ago (unhinted, its load
+ * had 1.3 % of the kernel's samples, 0.16 % hinted). */
 INLINE void prefetch_light_path(const RenderBuffers* b, const LaunchParams* params, int i)
 {
 #ifdef HAS_PREFETCH
-    int slot = queue_item(b->queueItems, b->queueCounters, params->capacity, QUEUE_HITS, i + PREFETCH_DISTANCE);
+    int slot = queue_item(b->queueItems, b->queueCounters, params->capacity, QUEUE_HITS,
+                          i + PREFETCH_DISTANCE + PREFETCH_DISTANCE / 2);
+    if (slot >= 0)
+        PREFETCH(&b->lightPathHead[b->pathPixel[slot] - params->firstLightPath], 4);
+    slot = queue_item(b->queueItems, b->queueCounters, params->capacity, QUEUE_HITS, i + PREFETCH_DISTANCE);
     if (slot < 0)
         return;
     int last = b->lightPathHead[b->pathPixel[slot] - params->firstLightPath];
