@@ -89,7 +89,8 @@ constexpr int kMaxBvhDepth = BVH_STACK_SIZE - 1;
 // stackBudget: the most stack entries a traversal of the wide tree may hold;
 // at least the binary tree's height (tests pass that height, so that the
 // collapse must fall back to binary nodes where eight children would not fit).
-Bvh buildBvh(const std::vector<Vec3>& vertices, int packetWidth = 8, int stackBudget = kMaxBvhDepth);
+Bvh buildBvh(const std::vector<Vec3>& vertices, int packetWidth = DEFAULT_TRIANGLE_PACKET_WIDTH,
+             int stackBudget = kMaxBvhDepth);
 
 // Appends the packets of BVH positions [begin, begin + count), in order, to
 // `packets` (Packet: TrianglePacket4 or TrianglePacket8); the vertices of

@@ -48,9 +48,13 @@ typedef struct BvhNode {
 DECLARE_TRIANGLE_PACKET(4)
 DECLARE_TRIANGLE_PACKET(8)
 #undef DECLARE_TRIANGLE_PACKET
+/* The width of a tree built for no device in particular (buildBvh's default,
+ * the tests'), and of a program built without TRIANGLE_PACKET_WIDTH; the
+ * renderer always passes its tree's. */
+#define DEFAULT_TRIANGLE_PACKET_WIDTH 8
 #ifdef __OPENCL_C_VERSION__
 #ifndef TRIANGLE_PACKET_WIDTH
-#define TRIANGLE_PACKET_WIDTH 8 /* test programs; the renderer always passes its tree's */
+#define TRIANGLE_PACKET_WIDTH DEFAULT_TRIANGLE_PACKET_WIDTH
 #endif
 #if TRIANGLE_PACKET_WIDTH == 8
 typedef TrianglePacket8 TrianglePacket;
