@@ -302,9 +302,10 @@ ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, 
                     options + "': " + clErrorName(e.err()) + "\n--- build log ---\n" +
                     attributeBuildLog(buildLog(program, device.device), source) + "\n--- end of build log ---");
     }
+    result.log = attributeBuildLog(buildLog(program, device.device), source);
     if (const char* env = std::getenv("WAVEVCM_BUILD_LOG"); env && std::string(env) == "1")
         std::fprintf(stderr, "wavevcm: build log on %s with options '%s':\n%s\n", device.name.c_str(), options.c_str(),
-                     attributeBuildLog(buildLog(program, device.device), source).c_str());
+                     result.log.c_str());
     if (!result.cacheFile.empty() && storeCached(result.cacheFile, program)) result.cache = ProgramBuild::Cache::Wavevcm;
     result.program = program;
     result.seconds = secondsSince(start);

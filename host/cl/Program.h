@@ -38,6 +38,7 @@ struct ProgramBuild {
     double seconds = 0;
     std::string options;   // the build options, wavevcm's and WAVEVCM_CL_OPTIONS
     std::string cacheFile; // wavevcm's cache file; empty when it is not used
+    std::string log;       // the compiler's messages when built from source (a cached program has none)
 };
 const char* cacheName(ProgramBuild::Cache cache); // "wavevcm", "driver", "none"
 

@@ -27,8 +27,8 @@
  * 1.07x), otherwise four (a GPU thread runs a vector's lanes one after
  * another, and keeps four lanes' values live, not eight). The host gives
  * devices without AVX trees of packets of four (host/render/SceneBuffers.h);
- * a tree of eights there is tested half by half. floatp and intp (doublep)
- * hold the lanes. */
+ * a tree of eights there is tested half by half. floatp and intp hold the
+ * lanes. */
 #if TRIANGLE_PACKET_WIDTH == 8 && defined(__AVX__)
 #define PACKET_TEST_WIDTH 8
 #define PACKET_LANE_BITS ((int8)(1, 2, 4, 8, 16, 32, 64, 128))
@@ -43,11 +43,6 @@ typedef PACKET_NAME(float) floatp;
 typedef PACKET_NAME(int) intp;
 #define vloadp PACKET_NAME(vload)
 #define vstorep PACKET_NAME(vstore)
-#define convert_floatp PACKET_NAME(convert_float)
-#ifdef cl_khr_fp64
-typedef PACKET_NAME(double) doublep;
-#define convert_doublep PACKET_NAME(convert_double)
-#endif
 
 /* Per-ray constants of the shear transform (eq. in §3 of the paper). */
 typedef struct ShearedRay {
@@ -152,6 +147,27 @@ INLINE float packet_min(floatp v)
     return fmin(fmin(m.s0, m.s1), fmin(m.s2, m.s3));
 }
 
+#ifdef cl_khr_fp64
+/* a·b − c·d per lane, in double (a product of two floats is exact there),
+ * rounded to float. */
+INLINE float4 difference_of_products4(float4 a, float4 b, float4 c, float4 d)
+{
+    return convert_float4(convert_double4(a) * convert_double4(b) - convert_double4(c) * convert_double4(d));
+}
+
+INLINE floatp difference_of_products(floatp a, floatp b, floatp c, floatp d)
+{
+#if PACKET_TEST_WIDTH == 8
+    /* By halves: without AVX-512 a double8 is passed to and returned from
+     * PoCL's conversion functions on the stack (clang warns that it changes
+     * the ABI, which every cold build on an AVX2 CPU printed). */
+    return (float8)(difference_of_products4(a.lo, b.lo, c.lo, d.lo), difference_of_products4(a.hi, b.hi, c.hi, d.hi));
+#else
+    return difference_of_products4(a, b, c, d);
+#endif
+}
+#endif
+
 /* The nearest hit among the triangles of lanes [PACKET_TEST_WIDTH · part,
  * PACKET_TEST_WIDTH · (part + 1)) of the packet with 0 < t < tMax, lanes
  * whose bit (1 << lane, counted from the part's first) is set in `excluded`
@@ -180,11 +196,9 @@ INLINE int intersect_lanes(const ShearedRay* s, __global const TrianglePacket* p
      * is exact. */
     intp zero = U == 0.0f || V == 0.0f || W == 0.0f;
     if (any_lane(zero)) {
-        doublep ax = convert_doublep(Ax), ay = convert_doublep(Ay), bx = convert_doublep(Bx),
-                by = convert_doublep(By), cx = convert_doublep(Cx), cy = convert_doublep(Cy);
-        U = select(U, convert_floatp(cx * by - cy * bx), zero);
-        V = select(V, convert_floatp(ax * cy - ay * cx), zero);
-        W = select(W, convert_floatp(bx * ay - by * ax), zero);
+        U = select(U, difference_of_products(Cx, By, Cy, Bx), zero);
+        V = select(V, difference_of_products(Ax, Cy, Ay, Cx), zero);
+        W = select(W, difference_of_products(Bx, Ay, By, Ax), zero);
     }
 #endif
     floatp det = U + V + W;
