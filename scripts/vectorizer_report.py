@@ -16,14 +16,18 @@ their queues by an atomic per item and the SIMD ones through the group
 (kernels/core/queues.h, pushes_per_item); --pipelines 1 for the whole device.
 
   scripts/vectorizer_report.py [-a vcm] [--scene S] [--require K1,K2] [--pipelines N]
-      [--locations] [--build-options "-DNO_PREFETCH"]
+      [--simd-shading] [--locations] [--build-options "-DNO_PREFETCH"]
       [--llvm-options "-slp-threshold=1000000 -force-vector-width=8"]
 
 --require: exit 1 unless each named kernel has a vectorized loop (the ctests
 scripts.vectorized_kernels_*); exit 77 (skipped) where wavevcm sets no LLVM
-options (no AVX-512, or not PoCL's LLVM as a shared library). Some shade
-kernels stay scalar in a scene with a GGX lobe (Renderer::deviceOptions:
-shade_light, and ppm's shade_bidirectional): do not require them there.
+options (no AVX2 or AVX-512, or not PoCL's LLVM as a shared library).
+--simd-shading: the shade kernels built for SIMD whatever the host chose for
+this device and scene (-DSIMD_CAMERA_SHADING=1 -DSIMD_LIGHT_SHADING=1; the
+host runs them so only with AVX-512, and there not shade_light, nor ppm's
+shade_bidirectional, in a scene with a GGX lobe: Renderer::deviceOptions),
+so that --require checks that their code still vectorizes on any machine
+where the options are set.
 --locations: builds the kernels with -g, so each reason names the kernel
 source line it is about.
 --build-options, --llvm-options: experiments. Extra kernel build options
@@ -51,12 +55,15 @@ def main():
     p.add_argument("--require", default="", help="comma-separated kernels that must have a vectorized loop")
     p.add_argument("--pipelines", type=int, default=2 if (os.cpu_count() or 1) >= 2 else 1,
                    help="render pipelines (default: 2 on two cores or more, as renders run)")
+    p.add_argument("--simd-shading", action="store_true",
+                   help="shade kernels built for SIMD whatever the host chose for this device and scene")
     p.add_argument("--locations", action="store_true", help="kernel source line of each reason (builds with -g)")
     p.add_argument("--build-options", default="", help="extra kernel build options, e.g. -DNO_PREFETCH")
     p.add_argument("--llvm-options", default=None,
                    help="options for PoCL's LLVM instead of wavevcm's, e.g. -force-vector-width=8 ('' for none)")
     args = p.parse_args()
-    build_options = (args.build_options + (" -g" if args.locations else "")).strip()
+    build_options = (args.build_options + (" -g" if args.locations else "") +
+                     (" -DSIMD_CAMERA_SHADING=1 -DSIMD_LIGHT_SHADING=1" if args.simd_shading else "")).strip()
 
     with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
         env = dict(os.environ, POCL_VECTORIZER_REMARKS="1", POCL_CACHE_DIR=cache, WAVEVCM_CACHE_DIR="off")
@@ -78,9 +85,9 @@ def main():
     if not options_set:
         print("no LLVM options set here: no work-item loop is forced into SIMD")
     else:
-        print("shade kernels in SIMD:", ", ".join(k for k, m in (("camera paths'", "-DSIMD_CAMERA_SHADING"),
-                                                                  ("shade_light", "-DSIMD_LIGHT_SHADING"))
-                                                  if m in options) or "none")
+        print("shade kernels in SIMD:", "all (--simd-shading)" if args.simd_shading else
+              ", ".join(k for k, m in (("camera paths'", "-DSIMD_CAMERA_SHADING"), ("shade_light", "-DSIMD_LIGHT_SHADING"))
+                        if m in options) or "none")
 
     vectorized = collections.Counter()
     reasons = collections.defaultdict(collections.Counter)

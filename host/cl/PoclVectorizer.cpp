@@ -67,6 +67,11 @@ bool setLlvmOptions(const std::vector<std::string>&) { return false; }
 
 } // namespace
 
+static cl_uint nativeFloatWidth(const DeviceInfo& device)
+{
+    return device.device.getInfo<CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT>();
+}
+
 // LLVM's options are the process's, and its parser takes each only once: the
 // first call sets them, the rest find them set.
 static std::mutex gMutex;
@@ -83,10 +88,9 @@ bool enableWorkItemVectorization(const DeviceInfo& device)
     if (const char* env = std::getenv("WAVEVCM_LLVM_OPTIONS")) {
         text = env;
     } else {
-        // AVX-512 (16 floats), where it was measured; with AVX2's 8 lanes and
-        // slower gathers the hints it gives up may be worth more (README).
-        cl_uint width = device.device.getInfo<CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT>();
-        if (width < 16) return false;
+        // AVX2 (8 floats) or AVX-512 (16); narrower SIMD was not measured.
+        cl_uint width = nativeFloatWidth(device);
+        if (width < 8) return false;
         text = "-slp-threshold=1000000 -force-vector-width=" + std::to_string(width);
     }
     std::vector<std::string> options = splitOptions(text);
@@ -96,6 +100,11 @@ bool enableWorkItemVectorization(const DeviceInfo& device)
                   static_cast<unsigned long long>(std::hash<std::string>{}(text) & 0xffffffffffffull));
     gKey = key;
     return true;
+}
+
+bool vectorizesShading(const DeviceInfo& device)
+{
+    return enableWorkItemVectorization(device) && nativeFloatWidth(device) >= 16;
 }
 
 std::string llvmOptionsKey()

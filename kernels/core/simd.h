@@ -11,7 +11,7 @@
  * go through the group rather than by an atomic per item, core/queues.h):
  *
  * SIMD_WORK_ITEMS (1 where the options are in force): generate,
- * generate_light, escaped and shade_eyelight, vectorized as written.
+ * generate_light and shade_eyelight, vectorized as written.
  * SIMD_CAMERA_SHADING, SIMD_LIGHT_SHADING (1 where the host set the options
  * and chose SIMD for the camera paths' shade kernel, shade or
  * shade_bidirectional, or for shade_light: Renderer::deviceOptions says
