@@ -57,18 +57,18 @@ std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeature
 {
     // Work-items in SIMD (kernels/core/simd.h) where PoCL's LLVM takes the options (cl/PoclVectorizer.h):
     // generate, generate_light and shade_eyelight always; the shade kernels with AVX-512 only, and there
-    // by what was measured (Intel AVX-512, docs/performance.md, "Vectorization on PoCL"). A vectorized loop runs every branch
-    // for every lane, so each hit pays for every lobe and every outcome in the program, where one
-    // work-item at a time skips to the end of the cheap ones. In scenes with a GGX lobe (the caustics scene, the textured room): shade_light ran
-    // 0.55-0.83x as fast in SIMD; shade_bidirectional 1.08-1.34x under vcm and bpt but 0.75-0.85x under
-    // ppm, whose camera paths end at their first non-delta hit; pt's shade 1.09x. Without GGX all gain.
-    // lt's camera paths do next to nothing (in SIMD, while its scalar shade_light also lost its per-item
-    // pushes, lt ran 0.95-0.96x).
-    bool options = vectorizesShading(device);
+    // by what was measured (Intel AVX-512, docs/performance.md, "Vectorization on PoCL"). A vectorized
+    // loop runs every branch for every lane, so each hit pays for every lobe and every outcome in the
+    // program, where one work-item at a time skips to the end of the cheap ones. In scenes with a GGX
+    // lobe (the caustics scene, the textured room): shade_light ran 0.55-0.83x as fast in SIMD;
+    // shade_bidirectional 1.08-1.34x under vcm and bpt but 0.75-0.85x under ppm, whose camera paths end
+    // at their first non-delta hit; pt's shade 1.09x. Without GGX all gain. lt's camera paths do next to
+    // nothing (in SIMD, while its scalar shade_light also lost its per-item pushes, lt ran 0.95-0.96x).
+    bool simdShading = vectorizesShading(device);
     bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0;
     bool cameraWork = algorithm != Algorithm::ProgressivePhotonMapping && algorithm != Algorithm::LightTracing;
-    bool simdCamera = options && (!ggx || cameraWork);
-    bool simdLight = options && !ggx;
+    bool simdCamera = simdShading && (!ggx || cameraWork);
+    bool simdLight = simdShading && !ggx;
     // kernels/core/queues.h, pushes_per_item: where the device has one compute unit, the kernels that run
     // one work-item at a time push by an atomic per item, there cheaper than the work-group's barriers
     // (PoCL may still run its groups on other threads: atomics); SIMD kernels through the group.
