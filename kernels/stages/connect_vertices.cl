@@ -58,7 +58,7 @@ INLINE bool connect_to_light_vertex(const RenderBuffers* b, const LaunchParams* 
                            adjoint_shading_correction(&lightHit, toLight, v3_neg(d)));
     if (!(max_component(fCamera) > 0.0f && max_component(fLight) > 0.0f))
         return false;
-    float contLight = continuation_probability(&lightBsdf);
+    float contLight = lv->continuation;
     cameraFwd *= cv->continuation;
     cameraRev *= cv->continuation;
     lightFwd *= contLight;
