@@ -196,7 +196,7 @@ typedef struct LightVertex {
     int prev;            /* previous stored vertex of the same light path, -1 at its first */
     float b1;            /* barycentrics of the hit */
     float b2;
-    float continuation;  /* Russian roulette survival probability of its BSDF (merging's reverse pdf) */
+    float continuation;  /* Russian roulette survival probability of its BSDF (in merges' and connections' pdfs) */
     int number;          /* of its light path's stored vertices, counting from 1 at the light's end */
 } LightVertex;
 
