@@ -2,7 +2,9 @@
 // on failure naming file and line, and the on-disk binary cache.
 #include "TestDevices.h"
 #include "render/Renderer.h"
+#include "bvh/Bvh.h"
 #include "render/SceneBuffers.h"
+#include "scene/GltfLoader.h"
 #include "Error.h"
 
 #include <gtest/gtest.h>
@@ -199,6 +201,35 @@ TEST(ProgramBuild, SecondBuildComesFromTheCache)
     }
     ::unsetenv("POCL_KERNEL_CACHE");
     ::unsetenv("WAVEVCM_CACHE_DIR");
+}
+
+// One context builds a source with given options once (buildProgramOnce):
+// the renderers the tests make one after another, one per seed, share the
+// build instead of each paying PoCL's preprocessing of the whole source.
+TEST(ProgramBuild, OneContextBuildsASourceOnce)
+{
+    std::string source = "__kernel void k(__global int* x) { x[get_global_id(0)] = 7; }\n";
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
+        SCOPED_TRACE(info.name);
+        DeviceContext device(info), other(info);
+        ProgramBuild first = buildProgramOnce(device, source, "");
+        ProgramBuild second = buildProgramOnce(device, source, "");
+        EXPECT_EQ(first.program(), second.program());
+        EXPECT_TRUE(second.fromCache);
+        EXPECT_NE(buildProgramOnce(device, source, "-DOTHER").program(), first.program());
+        EXPECT_NE(buildProgramOnce(other, source, "").program(), first.program());
+    }
+    // Renderers in one context.
+    DeviceContext device(test::devicesUnderTest()[0]);
+    Scene scene = loadGltf(std::string(WAVEVCM_SOURCE_DIR) + "/scenes/cornell-box.gltf");
+    Bvh bvh = buildBvh(scene.vertices, trianglePacketWidth(device.info));
+    RenderSettings s;
+    s.algorithm = Algorithm::VertexConnectionMerging;
+    s.width = s.height = 16;
+    Renderer a(device, scene, bvh, s);
+    s.seed = 2;
+    Renderer b(device, scene, bvh, s);
+    EXPECT_EQ(a.programBuild().program(), b.programBuild().program());
 }
 
 // PoCL with its own cache on is left to it: wavevcm writes no binary there

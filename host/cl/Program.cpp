@@ -1,5 +1,7 @@
 #include "Program.h"
 
+#include "DeviceContext.h"
+
 #include "../Error.h"
 
 #include <chrono>
@@ -310,6 +312,27 @@ ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, 
     result.program = program;
     result.seconds = secondsSince(start);
     return result;
+}
+
+ProgramBuild buildProgramOnce(DeviceContext& device, const std::string& source, const std::string& options)
+{
+    auto start = std::chrono::steady_clock::now();
+    const std::string key = options + '\n' + source;
+    DeviceContext::BuiltPrograms& built = *device.builtPrograms;
+    {
+        std::lock_guard<std::mutex> lock(built.mutex);
+        auto found = built.builds.find(key);
+        if (found != built.builds.end()) {
+            ProgramBuild again = found->second;
+            again.fromCache = true;
+            again.seconds = secondsSince(start);
+            return again;
+        }
+    }
+    ProgramBuild build = buildProgram(device.context, device.info, source, options);
+    std::lock_guard<std::mutex> lock(built.mutex);
+    built.builds.emplace(key, build);
+    return build;
 }
 
 } // namespace wv

@@ -9,6 +9,8 @@
 
 namespace wv {
 
+struct DeviceContext;
+
 // The kernels/ directory: $WAVEVCM_KERNEL_DIR, else ../share/wavevcm/kernels
 // next to the running binary (an installed wavevcm), else the source tree the
 // binary was built from. Throws wv::Error if none holds the kernels.
@@ -51,5 +53,12 @@ const char* cacheName(ProgramBuild::Cache cache); // "wavevcm", "driver", "none"
 // failed build throws wv::Error with the device's build log.
 ProgramBuild buildProgram(const cl::Context& context, const DeviceInfo& device, const std::string& source,
                           const std::string& options);
+
+// buildProgram in `device`'s context, once per source and options: a later
+// call with the same ones gets that build back (fromCache set, seconds the
+// lookup's). Renderers made one after another in one context (the tests'
+// seeds, the report's runs) then skip what even a cached build costs: PoCL
+// preprocesses and hashes the whole source and reloads every kernel.
+ProgramBuild buildProgramOnce(DeviceContext& device, const std::string& source, const std::string& options);
 
 } // namespace wv

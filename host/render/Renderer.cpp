@@ -151,10 +151,10 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     device.queue.enqueueFillBuffer(b.queueCounters, 0, 0, kCounterBytes);
 
     std::string source = expandKernelSources(findKernelDir(), kernelFiles(algorithm));
-    build_ = buildProgram(device.context, device.info, source,
-                          programOptions(algorithm, scene.features(), lights_.info.lightCount, connectionQueue_) +
-                              " -DTRIANGLE_PACKET_WIDTH=" + std::to_string(sceneBuffers_.packetWidth) +
-                              deviceOptions(device.info, scene.features(), algorithm));
+    build_ = buildProgramOnce(device, source,
+                              programOptions(algorithm, scene.features(), lights_.info.lightCount, connectionQueue_) +
+                                  " -DTRIANGLE_PACKET_WIDTH=" + std::to_string(sceneBuffers_.packetWidth) +
+                                  deviceOptions(device.info, scene.features(), algorithm));
 
     // One fixed local size: PoCL compiles a work-group function per local
     // size, and local size 1 is several times slower there.
