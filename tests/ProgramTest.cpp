@@ -1,8 +1,9 @@
 // Kernel sources and programs: #include inlining with #line, the build log
-// on failure naming file and line, and the on-disk binary cache.
+// on failure naming file and line, the on-disk binary cache, and one build
+// per source and options in a context.
 #include "TestDevices.h"
-#include "render/Renderer.h"
 #include "bvh/Bvh.h"
+#include "render/Renderer.h"
 #include "render/SceneBuffers.h"
 #include "scene/GltfLoader.h"
 #include "Error.h"
