@@ -25,6 +25,12 @@ scripts/bench_tables.sh writes them into the build directory):
   triangles (130K in all).
 - displaced-1m: the Cornell box around a displaced sphere of 1M triangles
   (bumps of 5 % of the radius), lit by the area light.
+- smallvcm-area, smallvcm-point: the Cornell boxes of SmallVCM (the VCM
+  paper's scalar CPU reference), for scripts/compare_smallvcm.sh: its scene 1
+  (a large mirror sphere under the ceiling's light box) and its scene 2 (a
+  mirror and a glass sphere under a point light), converted from its z-up
+  frame, with its floor's diffuse 0.1 + Phong 0.7 (exponent 90) as a GGX
+  metal blend and its analytic spheres tessellated.
 
 Usage (from the repository root):
 
@@ -182,9 +188,90 @@ def displaced_1m():
     return scene.gltf(GENERATOR)
 
 
+# SmallVCM's Cornell box (scene.hxx, LoadCornellBox), from its frame (z up,
+# the camera looking along +y) into glTF's (y up): (x, y, z) -> (x, z, -y).
+def from_smallvcm(p):
+    return (p[0], p[2], -p[1])
+
+
+SMALLVCM_BOX = ((-1.27029, -1.25549, -1.28002), (1.28975, 1.30455, 1.28002))
+
+
+def smallvcm_box(name, spheres, with_light_box):
+    """The box (open at the front), its spheres (centre, radius, material,
+    in SmallVCM's frame) and its camera; with the 0.5 x 0.5 x 0.02 light box
+    under the ceiling, whose bottom face emits."""
+    (x0, y0, z0), (x1, y1, z1) = SMALLVCM_BOX
+    white = diffuse("white", [0.803922, 0.803922, 0.803922, 1.0])
+    # Diffuse 0.1 + a glossy lobe of 0.7: a metal blend of base 0.8 and
+    # metallic 0.875 (0.125 x 0.8 diffuse, 0.875 x 0.8 metal); Phong's
+    # exponent n = 90 as a microfacet alpha sqrt(2 / (n + 2)) = 0.147,
+    # roughness sqrt(alpha).
+    floor = {"name": "glossy_floor",
+             "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0],
+                                      "metallicFactor": 0.875,
+                                      "roughnessFactor": 0.384}}
+    # (name, material, origin, u, v) in SmallVCM's frame; cross(u, v) faces
+    # the room.
+    walls = [
+        ("floor", floor, (x0, y0, z0), (x1 - x0, 0, 0), (0, y1 - y0, 0)),
+        ("ceiling", white, (x0, y0, z1), (0, y1 - y0, 0), (x1 - x0, 0, 0)),
+        ("back_wall", diffuse("blue", [0.156863, 0.172549, 0.803922, 1.0]),
+         (x0, y1, z0), (x1 - x0, 0, 0), (0, 0, z1 - z0)),
+        ("left_wall", diffuse("green", [0.156863, 0.803922, 0.172549, 1.0]),
+         (x0, y0, z0), (0, y1 - y0, 0), (0, 0, z1 - z0)),
+        ("right_wall", diffuse("red", [0.803922, 0.152941, 0.152941, 1.0]),
+         (x1, y0, z0), (0, 0, z1 - z0), (0, y1 - y0, 0)),
+    ]
+    if with_light_box:
+        b0, b1, top = 1.26002, 1.28002, 0.5
+        light = emitter("light", [1.0, 1.0, 1.0], 25.03329895614464)
+        walls += [
+            ("light", light, (-0.25, -0.25, b0), (0, top, 0), (top, 0, 0)),
+            ("light_box_front", white, (-0.25, -0.25, b0), (top, 0, 0), (0, 0, b1 - b0)),
+            ("light_box_back", white, (-0.25, 0.25, b0), (0, 0, b1 - b0), (top, 0, 0)),
+            ("light_box_left", white, (-0.25, -0.25, b0), (0, 0, b1 - b0), (0, top, 0)),
+            ("light_box_right", white, (0.25, -0.25, b0), (0, top, 0), (0, 0, b1 - b0)),
+        ]
+    scene = SceneBuilder(name)
+    for wall, material, origin, u, v in walls:
+        scene.add_mesh(wall, quad(from_smallvcm(origin), from_smallvcm(u),
+                                  from_smallvcm(v)), material)
+    sphere = scene.add_geometry(*uv_sphere(128, 64))
+    for sphere_name, centre, radius, material in spheres:
+        scene.add_mesh(sphere_name, sphere, material,
+                       translation=list(from_smallvcm(centre)),
+                       scale=[radius] * 3)
+    # Horizontal field of view 45 degrees, square image.
+    scene.add_camera(math.radians(45.0), 1.0,
+                     translation=list(from_smallvcm((-0.0439815, -4.12529, 0.222539))),
+                     rotation=look_rotation(from_smallvcm((0.00688625, 0.998505, -0.0542161)),
+                                            from_smallvcm((3.73896e-4, 0.0542148, 0.998529))))
+    return scene
+
+
+def smallvcm_area():
+    mirror = metal("mirror", [1.0, 1.0, 1.0, 1.0], 0.0)
+    return smallvcm_box("smallvcm_area", [("mirror_sphere", (0.00973, 0.02453, -0.48002), 0.8, mirror)],
+                        with_light_box=True).gltf(GENERATOR)
+
+
+def smallvcm_point():
+    mirror = metal("mirror", [1.0, 1.0, 1.0, 1.0], 0.0)
+    spheres = [("mirror_sphere", (-0.53885, 0.02453, -0.78002), 0.5, mirror),
+               ("glass_sphere", (0.55831, 0.02453, -0.78002), 0.5, glass("glass", 1.6))]
+    scene = smallvcm_box("smallvcm_point", spheres, with_light_box=False)
+    # 70 W: 70 / (4 pi) W/sr.
+    scene.add_light("point_light", "point", [1.0, 1.0, 1.0], 70.0 / (4.0 * math.pi),
+                    translation=list(from_smallvcm((0.0, -0.5, 1.0))))
+    return scene.gltf(GENERATOR)
+
+
 BENCH_SCENES = {
     "cornell-box-130k": cornell_box_130k,
     "displaced-1m": displaced_1m,
+    "smallvcm-area": smallvcm_area,
+    "smallvcm-point": smallvcm_point,
 }
 
 SCENES = {
