@@ -23,9 +23,9 @@ radius shrinks over iterations), as it does for a user.
 
 SmallVCM's -t counts CPU time summed over its threads, so it runs a fixed
 number of iterations instead, chosen from a first short run to take about
-the wall time asked for; each run's relMSE is scaled to the asked-for time
-(relMSE x wall / seconds: the error of an estimator that converges as
-1/time).
+the wall time asked for (redone once if more than 10 % off it); each run's
+relMSE is then scaled to the asked-for time (relMSE x wall / seconds: the
+error of an estimator that converges as 1/time).
 """
 
 import argparse
@@ -51,6 +51,20 @@ def smallvcm_iterations(binary, scene_id, algorithm, seconds, threads, out):
     thread count (its OpenMP loop gives each thread an equal share)."""
     one_round = run_smallvcm(binary, scene_id, algorithm, threads, out)
     return threads * max(1, int(round(seconds / one_round)))
+
+
+def run_smallvcm_for(binary, scene_id, algorithm, seconds, threads, out):
+    """Renders for about `seconds` of wall time; returns the iterations and
+    the wall time. A run more than 10 % off the time (the first round's
+    estimate includes the start) is redone with the iterations scaled: an
+    error with a bias in it (merging's, or what an algorithm cannot render)
+    does not scale with time."""
+    n = smallvcm_iterations(binary, scene_id, algorithm, seconds, threads, out)
+    wall = run_smallvcm(binary, scene_id, algorithm, n, out)
+    if abs(wall - seconds) > 0.1 * seconds:
+        n = threads * max(1, int(round(n * seconds / wall / threads)))
+        wall = run_smallvcm(binary, scene_id, algorithm, n, out)
+    return n, wall
 
 
 def run_wavevcm(binary, scene, algorithm, seconds, seed, out):
@@ -88,6 +102,8 @@ def main():
     ap.add_argument("--algorithms", default=",".join(ALGORITHMS))
     ap.add_argument("--seconds", type=float, default=30.0, help="wall time of each equal-time render")
     ap.add_argument("--reference-seconds", type=float, default=120.0, help="wall time of each reference")
+    ap.add_argument("--keep-references", action="store_true",
+                    help="reuse the references an earlier run left in --out (same scenes and renderers only)")
     ap.add_argument("--wavevcm", default="build/wavevcm")
     ap.add_argument("--out", default="build/smallvcm-compare")
     args = ap.parse_args()
@@ -108,19 +124,20 @@ def main():
         gltf, scene_id = o(SCENES[scene_name][0] + ".gltf"), SCENES[scene_name][1]
         log = lambda what: print("compare_smallvcm: %s: %s" % (scene_name, what), file=sys.stderr, flush=True)
         for reference in ("bpt", "vcm"):
+            images = (o("%s-smallvcm-ref-%s.hdr" % (scene_name, reference)),
+                      o("%s-wavevcm-ref-%s.exr" % (scene_name, reference)))
+            if args.keep_references and all(os.path.exists(image) for image in images):
+                log("%s references kept from an earlier run" % reference)
+                continue
             log("%s references (%g s each)" % (reference, args.reference_seconds))
-            image = o("%s-smallvcm-ref-%s.hdr" % (scene_name, reference))
-            n = smallvcm_iterations(args.smallvcm_reseeded, scene_id, reference, args.reference_seconds, threads, image)
-            run_smallvcm(args.smallvcm_reseeded, scene_id, reference, n, image)
-            run_wavevcm(args.wavevcm, gltf, reference, args.reference_seconds, 1 << 20,
-                        o("%s-wavevcm-ref-%s.exr" % (scene_name, reference)))
+            run_smallvcm_for(args.smallvcm_reseeded, scene_id, reference, args.reference_seconds, threads, images[0])
+            run_wavevcm(args.wavevcm, gltf, reference, args.reference_seconds, 1 << 20, images[1])
         rows = []
         for algorithm in algorithms:
             log("%s (%g s each)" % (algorithm, args.seconds))
             reference = "vcm" if algorithm == "bpt" else "bpt"
             image = o("%s-smallvcm-%s.hdr" % (scene_name, algorithm))
-            n = smallvcm_iterations(args.smallvcm, scene_id, algorithm, args.seconds, threads, image)
-            wall = run_smallvcm(args.smallvcm, scene_id, algorithm, n, image)
+            n, wall = run_smallvcm_for(args.smallvcm, scene_id, algorithm, args.seconds, threads, image)
             s_err = relmse(args.wavevcm, image, o("%s-smallvcm-ref-%s.hdr" % (scene_name, reference))) * wall / args.seconds
             image = o("%s-wavevcm-%s.exr" % (scene_name, algorithm))
             w_its, w_wall = run_wavevcm(args.wavevcm, gltf, algorithm, args.seconds, 1, image)
