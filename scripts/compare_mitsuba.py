@@ -28,6 +28,8 @@ import time
 
 import numpy as np
 
+from comparelib import machine, relmse
+
 
 # --- glTF -> world-space triangles -------------------------------------------
 
@@ -210,26 +212,6 @@ def render_wavevcm(binary, scene, seconds, out, width, height, max_depth, seed):
     with open(stats) as f:
         s = json.load(f)
     return s["iterations"], s["render_seconds"]
-
-
-def relmse(binary, test, reference):
-    out = subprocess.run([binary, "compare", test, reference], check=True, capture_output=True, text=True).stdout
-    return float(out.split("relmse")[1].split()[0])
-
-
-def machine():
-    """CPU model, cores and widest x86 vector extension: the two renderers'
-    ratio has moved by 2x between machines (README), so runs say where."""
-    model, flags = "unknown CPU", set()
-    with open("/proc/cpuinfo") as f:
-        for line in f:
-            key, _, value = line.partition(":")
-            if key.strip() == "model name":
-                model = value.strip()
-            elif key.strip() == "flags":
-                flags = set(value.split())
-    simd = next((f for f in ("avx512f", "avx2", "avx", "sse4_2") if f in flags), "sse2")
-    return "%s, %d cores, %s" % (model, os.cpu_count(), simd)
 
 
 def main():

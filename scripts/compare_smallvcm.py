@@ -35,6 +35,8 @@ import subprocess
 import sys
 import time
 
+from comparelib import machine, relmse
+
 SCENES = {"area": ("smallvcm-area", 1), "point": ("smallvcm-point", 2)}
 ALGORITHMS = ["pt", "lt", "bpt", "ppm", "bpm", "vcm"]
 
@@ -74,24 +76,6 @@ def run_wavevcm(binary, scene, algorithm, seconds, seed, out):
     with open(stats) as f:
         s = json.load(f)
     return s["iterations"], s["render_seconds"]
-
-
-def relmse(wavevcm, test, reference):
-    out = subprocess.run([wavevcm, "compare", test, reference], check=True, capture_output=True, text=True).stdout
-    return float(out.split("relmse")[1].split()[0])
-
-
-def machine():
-    model, flags = "unknown CPU", set()
-    with open("/proc/cpuinfo") as f:
-        for line in f:
-            key, _, value = line.partition(":")
-            if key.strip() == "model name":
-                model = value.strip()
-            elif key.strip() == "flags":
-                flags = set(value.split())
-    simd = next((f for f in ("avx512f", "avx2", "avx", "sse4_2") if f in flags), "sse2")
-    return "%s, %d cores, %s" % (model, os.cpu_count(), simd)
 
 
 def main():
