@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <memory>
 
 namespace wv::test {
 
@@ -96,10 +98,19 @@ Render renderOn(DeviceContext& device, const Scene& scene, const Bvh& bvh, Algor
     return {renderer.image(), renderer.nonFiniteCount()};
 }
 
+DeviceContext& sharedContext(const DeviceInfo& info)
+{
+    // Never destroyed: the drivers may be unloaded before static destructors run.
+    static auto* contexts = new std::map<std::string, std::unique_ptr<DeviceContext>>;
+    std::unique_ptr<DeviceContext>& context = (*contexts)[info.platformName + "\n" + info.name];
+    if (!context) context = std::make_unique<DeviceContext>(info);
+    return *context;
+}
+
 Render render(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, int width, int height, int iterations,
               uint32_t seed, int maxPathLength, float radiusFactor)
 {
-    DeviceContext device(info);
+    DeviceContext& device = sharedContext(info);
     Bvh bvh = buildBvh(scene.vertices, trianglePacketWidth(info));
     return renderOn(device, scene, bvh, algorithm, width, height, iterations, seed, maxPathLength, radiusFactor);
 }
@@ -107,7 +118,7 @@ Render render(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, i
 std::vector<Image> renderSeeds(const DeviceInfo& info, const Scene& scene, Algorithm algorithm, int width,
                                int height, int iterations, int seeds, int maxPathLength, float radiusFactor)
 {
-    DeviceContext device(info);
+    DeviceContext& device = sharedContext(info);
     Bvh bvh = buildBvh(scene.vertices, trianglePacketWidth(info));
     std::vector<Image> out;
     for (int s = 1; s <= seeds; ++s)

@@ -48,7 +48,13 @@ void expectMean(const Render& r, double expected, double maxRelativeError);
 Render renderOn(DeviceContext& device, const Scene& scene, const Bvh& bvh, Algorithm algorithm, int width,
                 int height, int iterations, uint32_t seed, int maxPathLength = 10, float radiusFactor = 0.003f);
 
-// The same on a context of its own, over the tree the device's packet
+// The one context of a device in this test process, which render() and
+// renderSeeds() use: renderers in it share each program build
+// (buildProgramOnce), where a new context reloads a program from the
+// driver's cache (~1 s on PoCL).
+DeviceContext& sharedContext(const DeviceInfo& info);
+
+// The same on the device's shared context, over the tree the device's packet
 // width gets in a render (trianglePacketWidth).
 Render render(const DeviceInfo& device, const Scene& scene, Algorithm algorithm, int width, int height,
               int iterations, uint32_t seed, int maxPathLength = 10, float radiusFactor = 0.003f);
