@@ -24,6 +24,11 @@ grep -q 'mBaseSeed *= *1234;' "$config" ||
   { echo "compare_smallvcm: $config does not set mBaseSeed = 1234 where expected; cannot reseed" >&2; exit 1; }
 out=build/smallvcm-bin
 mkdir -p "$out"
+# Binaries built from another source tree are built again.
+if [ "$(cat "$out/source" 2>/dev/null)" != "$(realpath "$src")" ]; then
+  rm -f "$out"/smallvcm-*
+  realpath "$src" > "$out/source"
+fi
 for seed in 1234 1000000; do
   if [ ! -x "$out/smallvcm-$seed" ]; then
     echo "compare_smallvcm: building SmallVCM (base seed $seed)" >&2
