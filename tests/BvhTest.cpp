@@ -274,10 +274,9 @@ RaySet surfaceRays(const std::vector<Vec3>& v, int count, std::mt19937& rng)
 // check every otherDeviceStride-th ray only.
 void checkAgainstBruteForce(const Scene& scene, const RaySet& allRays, const char* what, size_t otherDeviceStride = 1)
 {
-    std::vector<DeviceInfo> devices = test::devicesUnderTest();
-    for (const DeviceInfo& info : devices) {
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
         RaySet rays;
-        size_t stride = info.name == devices[0].name ? 1 : otherDeviceStride;
+        size_t stride = test::isFirstDevice(info) ? 1 : otherDeviceStride;
         for (size_t i = 0; i < allRays.size(); i += stride) {
             rays.origins.push_back(allRays.origins[i]);
             rays.directions.push_back(allRays.directions[i]);

@@ -75,14 +75,13 @@ int blocksDiffering(const Image& a, const Image& b)
 // other test shares, and this test was the second longest of a CI run.
 TEST(ConnectionQueue, GivesTheImageOfTracingInline)
 {
-    std::vector<DeviceInfo> devices = test::devicesUnderTest();
     for (std::string path : {test::cornellBoxPath(), std::string(WAVEVCM_SOURCE_DIR) + "/scenes/caustics.gltf"}) {
         SCOPED_TRACE(path);
         Scene scene = loadGltf(path);
         Bvh bvh = buildBvh(scene.vertices);
         bool cornellBox = path == test::cornellBoxPath();
-        for (const DeviceInfo& info : devices) {
-            if (!cornellBox && info.name != devices[0].name)
+        for (const DeviceInfo& info : test::devicesUnderTest()) {
+            if (!cornellBox && !test::isFirstDevice(info))
                 continue;
             SCOPED_TRACE(info.name);
             for (Algorithm a : {Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}) {

@@ -42,15 +42,14 @@ TEST(Rounds, EnqueuedAheadGiveTheImageAndRaysOfWaitingForEach)
 {
     Scene scene = loadGltf(test::cornellBoxPath());
     Bvh bvh = buildBvh(scene.vertices);
-    std::vector<DeviceInfo> devices = test::devicesUnderTest();
-    for (const DeviceInfo& info : devices) {
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
         DeviceContext device(info);
         SCOPED_TRACE(info.name);
         for (Algorithm a : {Algorithm::EyeLight, Algorithm::PathTracing, Algorithm::LightTracing,
                             Algorithm::VertexConnectionMerging}) {
             // Other devices: pt and vcm, whose phases (camera paths, and
             // light paths in batches) are those of el and lt too.
-            if (info.name != devices[0].name && a != Algorithm::PathTracing && a != Algorithm::VertexConnectionMerging)
+            if (!test::isFirstDevice(info) && a != Algorithm::PathTracing && a != Algorithm::VertexConnectionMerging)
                 continue;
             SCOPED_TRACE(algorithmName(a));
             Rendered waiting = renderWith(device, scene, bvh, a, 0);

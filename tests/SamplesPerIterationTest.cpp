@@ -85,8 +85,7 @@ TEST(SamplesPerIteration, LightTracingAndBidirectionalGiveTheImageOfOneSampleEac
 {
     Scene scene = loadGltf(std::string(WAVEVCM_SOURCE_DIR) + "/scenes/cornell-box-background.gltf");
     Bvh bvh = buildBvh(scene.vertices);
-    std::vector<DeviceInfo> devices = test::devicesUnderTest();
-    for (const DeviceInfo& info : devices) {
+    for (const DeviceInfo& info : test::devicesUnderTest()) {
         DeviceContext device(info);
         SCOPED_TRACE(info.name);
         for (Algorithm a : {Algorithm::LightTracing, Algorithm::Bidirectional}) {
@@ -104,7 +103,7 @@ TEST(SamplesPerIteration, LightTracingAndBidirectionalGiveTheImageOfOneSampleEac
         // the first device (ConnectionQueue.GivesTheImageOfTracingInline runs
         // queued connections on every device; this program, on rusticl, would
         // be compiled for this test alone).
-        if (info.name != devices[0].name)
+        if (!test::isFirstDevice(info))
             continue;
         Rendered one = renderWith(device, scene, bvh, Algorithm::Bidirectional, 1, 4);
         Rendered two = renderWith(device, scene, bvh, Algorithm::Bidirectional, 2, 2, 5, 0.003f, 0.75f,

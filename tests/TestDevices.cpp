@@ -13,6 +13,8 @@ std::vector<DeviceInfo> devicesUnderTest()
     return enumerateDevices();
 }
 
+bool isFirstDevice(const DeviceInfo& device) { return device.index == devicesUnderTest().front().index; }
+
 std::string testKernel(const std::string& name) { return std::string(WAVEVCM_TEST_KERNEL_DIR) + "/" + name; }
 
 cl::Program buildTestProgram(DeviceContext& device, const std::vector<std::string>& files, const std::string& options)

@@ -16,6 +16,11 @@ namespace wv::test {
 // or those WAVEVCM_TEST_DEVICES selects.
 std::vector<DeviceInfo> devicesUnderTest();
 
+// Whether `device` is the first of devicesUnderTest(): tests that cover a case
+// once, not per implementation, run it there alone (rusticl renders a small
+// iteration ~50x slower than PoCL, and compiles each program of its own).
+bool isFirstDevice(const DeviceInfo& device);
+
 // A program of the named kernel files; test kernels live in tests/kernels.
 cl::Program buildTestProgram(DeviceContext& device, const std::vector<std::string>& files,
                              const std::string& options = "");
