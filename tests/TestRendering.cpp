@@ -101,8 +101,9 @@ Render renderOn(DeviceContext& device, const Scene& scene, const Bvh& bvh, Algor
 DeviceContext& sharedContext(const DeviceInfo& info)
 {
     // Never destroyed: the drivers may be unloaded before static destructors run.
-    static auto* contexts = new std::map<std::string, std::unique_ptr<DeviceContext>>;
-    std::unique_ptr<DeviceContext>& context = (*contexts)[info.platformName + "\n" + info.name];
+    // Keyed by the OpenCL device itself: two identical GPUs share a name.
+    static auto* contexts = new std::map<cl_device_id, std::unique_ptr<DeviceContext>>;
+    std::unique_ptr<DeviceContext>& context = (*contexts)[info.device()];
     if (!context) context = std::make_unique<DeviceContext>(info);
     return *context;
 }
