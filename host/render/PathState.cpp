@@ -7,24 +7,29 @@
 
 namespace wv {
 
-size_t PathState::bytesPerPath()
+size_t PathState::bytesPerPath(int regions)
 {
-    return 0
 #define WV_FIELD_BYTES(space, type, name, perSlot) +size_t(perSlot) * sizeof(type)
-        PATH_STATE_BUFFERS(WV_FIELD_BYTES)
+    size_t pathBytes = 0 PATH_STATE_BUFFERS(WV_FIELD_BYTES);
+    size_t queueBytes = 0 QUEUE_BUFFERS(WV_FIELD_BYTES);
 #undef WV_FIELD_BYTES
-        + sizeof(int); // slotIndices
+    return size_t(regions) * pathBytes + queueBytes + sizeof(int); // slotIndices
 }
 
-PathState::PathState(DeviceContext& device, int capacity_, KernelBuffers& buffers) : capacity(capacity_)
+PathState::PathState(DeviceContext& device, int capacity_, int regions, KernelBuffers& buffers) : capacity(capacity_)
 {
     size_t n = size_t(capacity);
-#define WV_ALLOCATE_FIELD(space, type, name, perSlot)                                                            \
+#define WV_ALLOCATE_FIELD(space, type, name, perSlot, slots)                                                     \
     if (perSlot > 0) {                                                                                          \
-        buffers.name = deviceBuffer(device, n * perSlot * sizeof(type), "the path state (" #name ")");          \
-        bytes += n * perSlot * sizeof(type);                                                                    \
+        buffers.name = deviceBuffer(device, slots * perSlot * sizeof(type), "the path state (" #name ")");      \
+        bytes += slots * perSlot * sizeof(type);                                                                \
     }
-    PATH_STATE_BUFFERS(WV_ALLOCATE_FIELD)
+#define WV_ALLOCATE_PATH_FIELD(space, type, name, perSlot) WV_ALLOCATE_FIELD(space, type, name, perSlot, n * regions)
+#define WV_ALLOCATE_QUEUE(space, type, name, perSlot) WV_ALLOCATE_FIELD(space, type, name, perSlot, n)
+    PATH_STATE_BUFFERS(WV_ALLOCATE_PATH_FIELD)
+    QUEUE_BUFFERS(WV_ALLOCATE_QUEUE)
+#undef WV_ALLOCATE_QUEUE
+#undef WV_ALLOCATE_PATH_FIELD
 #undef WV_ALLOCATE_FIELD
     std::vector<int> indices(n);
     std::iota(indices.begin(), indices.end(), 0);

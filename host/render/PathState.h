@@ -1,7 +1,9 @@
 // Device buffers for one wavefront of paths: the path-state fields of
 // kernels/interface/kernel_interface.h (structure of arrays, one buffer per field,
 // indexed by path slot), the work queues (kernels/interface/queue_ids.h) and their
-// counters. Sized by the wavefront capacity, independent of the image size.
+// counters. Sized by the wavefront capacity, independent of the image size;
+// the path state in two regions of it where paths are compacted by round
+// (kernels/transport/path_state.h).
 #pragma once
 
 #include "../../kernels/interface/queue_ids.h"
@@ -17,11 +19,12 @@ struct PathState {
     cl::Buffer slotIndices; // int[capacity] = 0, 1, 2, ...: the initial free queue
     size_t bytes = 0;
 
-    // Allocates every path-state field and the counters into `buffers`.
-    PathState(DeviceContext& device, int capacity, KernelBuffers& buffers);
+    // Allocates every path-state field (`regions` × capacity slots), the
+    // queues and their counters into `buffers`.
+    PathState(DeviceContext& device, int capacity, int regions, KernelBuffers& buffers);
 
-    // Bytes of device memory per path slot, for sizing the wavefront.
-    static size_t bytesPerPath();
+    // Bytes of device memory per path slot of the wavefront, for sizing it.
+    static size_t bytesPerPath(int regions);
 };
 
 } // namespace wv

@@ -53,7 +53,7 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
     return options;
 }
 
-std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm)
+Renderer::Shading Renderer::shading(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm)
 {
     // Work-items in SIMD (kernels/core/simd.h) where PoCL's LLVM takes the options (cl/PoclVectorizer.h):
     // generate, generate_light and shade_eyelight always; the shade kernels with AVX-512 only, and there
@@ -64,17 +64,25 @@ std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeature
     // shade_bidirectional 1.08-1.34x under vcm and bpt but 0.75-0.85x under ppm, whose camera paths end
     // at their first non-delta hit; pt's shade 1.09x. Without GGX all gain. lt's camera paths do next to
     // nothing (in SIMD, while its scalar shade_light also lost its per-item pushes, lt ran 0.95-0.96x).
+    Shading s;
     bool simdShading = vectorizesShading(device);
     bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0;
     bool cameraWork = algorithm != Algorithm::ProgressivePhotonMapping && algorithm != Algorithm::LightTracing;
-    bool simdCamera = simdShading && (!ggx || cameraWork);
-    bool simdLight = simdShading && !ggx;
+    s.simdCamera = simdShading && (!ggx || cameraWork);
+    s.simdLight = simdShading && !ggx;
     // kernels/core/queues.h, pushes_per_item: where the device has one compute unit, the kernels that run
     // one work-item at a time push by an atomic per item, there cheaper than the work-group's barriers
     // (PoCL may still run its groups on other threads: atomics); SIMD kernels through the group.
-    bool oneThread = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
-    return std::string(simdCamera ? " -DSIMD_CAMERA_SHADING=1" : "") + (simdLight ? " -DSIMD_LIGHT_SHADING=1" : "") +
-           (oneThread ? " -DPUSH_PER_ITEM" : "") + llvmOptionsKey();
+    s.pushPerItem = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
+    return s;
+}
+
+std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm)
+{
+    Shading s = shading(device, features, algorithm);
+    return std::string(s.simdCamera ? " -DSIMD_CAMERA_SHADING=1" : "") +
+           (s.simdLight ? " -DSIMD_LIGHT_SHADING=1" : "") + (s.pushPerItem ? " -DPUSH_PER_ITEM" : "") +
+           (s.compactsPaths() ? " -DCOMPACT_PATHS" : "") + llvmOptionsKey();
 }
 
 // The light selection's binary search as a fixed number of steps
@@ -84,10 +92,10 @@ std::string lightSelectOption(int lightCount)
     return " -DLIGHT_SELECT_STEPS=" + std::to_string(binarySearchSteps(lightCount));
 }
 
-int defaultWavefront(const DeviceInfo& device)
+int defaultWavefront(const DeviceInfo& device, int regions)
 {
     size_t wanted = (device.type & CL_DEVICE_TYPE_GPU) ? (size_t(1) << 21) : (size_t(1) << 18);
-    size_t fits = device.globalMemory / 4 / PathState::bytesPerPath();
+    size_t fits = device.globalMemory / 4 / PathState::bytesPerPath(regions);
     return int(std::max<size_t>(1024, std::min(wanted, fits)));
 }
 
@@ -96,18 +104,20 @@ constexpr size_t kBytesPerConnection = 3 * sizeof(cl_float4);
 
 static size_t roundUp(size_t x, size_t multiple) { return (x + multiple - 1) / multiple * multiple; }
 
-static PathState makePathState(DeviceContext& device, const RenderSettings& s, KernelBuffers& buffers)
+static PathState makePathState(DeviceContext& device, const RenderSettings& s, int regions, KernelBuffers& buffers)
 {
-    int wavefront = s.wavefront > 0 ? s.wavefront : defaultWavefront(device.info);
+    int wavefront = s.wavefront > 0 ? s.wavefront : defaultWavefront(device.info, regions);
     // Launches cover queue sizes in work-groups of 64, so the capacity is a
     // multiple of 64, and no larger than one iteration needs.
     wavefront = int(std::min<int64_t>(wavefront, int64_t(s.width) * s.height * s.samplesPerIteration));
-    return PathState(device, int(roundUp(size_t(wavefront), 64)), buffers);
+    return PathState(device, int(roundUp(size_t(wavefront), 64)), regions, buffers);
 }
 
 Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings)
     : device_(device), settings_(settings), lights_(buildLightTable(scene, bvh)),
-      sceneBuffers_(device, scene, bvh, lights_), paths_(makePathState(device, settings, buffers_))
+      sceneBuffers_(device, scene, bvh, lights_), paths_(makePathState(device, settings,
+                                 shading(device.info, scene.features(), settings.algorithm).pathStateRegions(),
+                                 buffers_))
 {
     Algorithm algorithm = settings.algorithm;
     bidirectional_ = algorithm != Algorithm::EyeLight && algorithm != Algorithm::PathTracing;

@@ -43,7 +43,8 @@ namespace wv {
     X(__constant, SceneInfo, scene, 0)                                                                     \
     X(__constant, Camera, camera, 0)
 
-/* One wavefront of paths, indexed by path slot (kernels/path_state.h). */
+/* One wavefront of paths, indexed by path slot (transport/path_state.h): `capacity` slots, or
+ * two regions of them where paths are compacted by round (COMPACT_PATHS). */
 #define PATH_STATE_BUFFERS(X)                                                                              \
     X(__global, float4, rayOrigins, 1)                                                                     \
     X(__global, float4, rayDirections, 1)    /* w = tMax */                                                \
@@ -61,7 +62,10 @@ namespace wv {
     X(__global, float4, shadowOrigins, 1)                                                                  \
     X(__global, float4, shadowDirections, 1) /* w = tMax */                                                \
     X(__global, float4, shadowContribution, 1)                                                             \
-    X(__global, int, shadowPixel, 1)         /* where a light-tracing shadow ray splats */                 \
+    X(__global, int, shadowPixel, 1)         /* where a light-tracing shadow ray splats */
+
+/* The work queues (queue_ids.h): path slots, and their counters. */
+#define QUEUE_BUFFERS(X)                                                                                   \
     X(__global, int, queueItems, QUEUE_COUNT) /* queue q: [q·capacity, (q+1)·capacity) */                  \
     X(__global, int, queueCounters, 0)       /* COUNTER_COUNT counters, COUNTER_STRIDE apart */
 
@@ -85,7 +89,8 @@ namespace wv {
     X(__global, float4, connectionDirections, 0)   /* w = tMax */                                         \
     X(__global, float4, connectionContribution, 0) /* w: the camera sample, an int (connection_sample) */
 
-#define RENDER_BUFFERS(X) SCENE_BUFFERS(X) PATH_STATE_BUFFERS(X) IMAGE_BUFFERS(X) LIGHT_PATH_BUFFERS(X)
+#define RENDER_BUFFERS(X) \
+    SCENE_BUFFERS(X) PATH_STATE_BUFFERS(X) QUEUE_BUFFERS(X) IMAGE_BUFFERS(X) LIGHT_PATH_BUFFERS(X)
 
 /* The scalars of one launch, set by the queue manager before every launch.
  * 4-byte scalars only: identical layout in both compilers, and rusticl

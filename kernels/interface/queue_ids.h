@@ -3,7 +3,9 @@
  * Every queue is an array of path-slot indices (queue q occupies
  * items[q·capacity, (q+1)·capacity)) and a counter. Rays and free slots
  * ping-pong between two queues by round parity: a round consumes RAYS(p) and
- * FREE(p) and fills RAYS(1−p) and FREE(1−p).
+ * FREE(p) and fills RAYS(1−p) and FREE(1−p). Where paths are compacted by
+ * round (transport/path_state.h) FREE's counter alone is used: its slots are
+ * not reused.
  *
  * Counters sit 64 bytes apart (COUNTER_INDEX): pushes to one queue then do not
  * invalidate the cache line that the readers of another queue's size hold,

@@ -44,14 +44,20 @@ __kernel void plan_round(RENDER_KERNEL_PARAMS)
     c[COUNTER_INDEX(params.nextFreeQueue)] = 0;
 }
 
-/* The slot of new path i of the round (and its sample), or -1 past them. */
+/* The slot of new path i of the round (and its sample), or -1 past them:
+ * compacted (path_state.h), the one after the continuing paths' in the
+ * round's region; else the free queue's i-th. */
 INLINE int take_free_slot(__global int* queueItems, __global const int* queueCounters, const LaunchParams* p,
                           int* sample)
 {
     int i = get_global_id(0);
     if (i >= queueCounters[COUNTER_INDEX(COUNTER_ROUND_NEW)])
         return -1;
+#ifdef COMPACT_PATHS
+    int slot = region_first_slot(p->rayQueue, p->capacity) + queueCounters[COUNTER_INDEX(COUNTER_ROUND_RAYS)] + i;
+#else
     int slot = queueItems[p->freeQueue * p->capacity + i];
+#endif
     queueItems[p->rayQueue * p->capacity + queueCounters[COUNTER_INDEX(COUNTER_ROUND_RAYS)] + i] = slot;
     *sample = p->firstSample + queueCounters[COUNTER_INDEX(COUNTER_ROUND_FIRST)] + i;
     return slot;

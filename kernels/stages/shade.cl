@@ -100,9 +100,10 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
                 alive = uScatter.w < q;
                 beta = v3_div(beta, q);
             }
-            alive = alive && store_continuation(b, slot, &hit, s.wi, beta, etaScale, depth, rejected);
+            int next = alive ? store_continuation(b, params, slot, &hit, s.wi, beta, etaScale, depth, rejected) : -1;
+            alive = next >= 0;
             if (alive)
-                b->pathPrevPdf[slot] = s.delta ? 0.0f : s.pdfW;
+                b->pathPrevPdf[next] = s.delta ? 0.0f : s.pdfW;
         }
     }
 
@@ -121,6 +122,7 @@ __kernel void shade(RENDER_KERNEL_PARAMS)
         shade_hit(&b, &params, slot, &alive, &shadowRay, &rejected);
     queue_push4(queueItems, queueCounters, params.capacity,
                 lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
-                lanes(shadowRay, alive, slot >= 0 && !alive, 0), slot, scratch, SIMD_CAMERA_SHADING);
+                lanes(shadowRay, alive && PUSH_CONTINUING_PATHS, slot >= 0 && !alive, 0), slot, scratch,
+                SIMD_CAMERA_SHADING);
     report_nonfinite(queueCounters, rejected);
 }

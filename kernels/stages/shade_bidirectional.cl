@@ -113,12 +113,14 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
         Uniform4 uScatter = rng_uniform4(params->seed, index, (uint)pixel, (uint)depth, 1u);
 #endif
         Scatter s;
-        alive = continue_bidirectional(&bsdf, &hit, wo, woL, uScatter, false, cont, params, &mis, &beta, &s) &&
-                store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth, rejected);
+        int next = continue_bidirectional(&bsdf, &hit, wo, woL, uScatter, false, cont, params, &mis, &beta, &s)
+                       ? store_continuation(b, params, slot, &hit, s.wi, beta, 0.0f, depth, rejected)
+                       : -1;
+        alive = next >= 0;
         if (alive) {
-            store_mis(b->pathMis, slot, mis);
+            store_mis(b->pathMis, next, mis);
             if (!s.delta)
-                b->pathFlags[slot] = 0;
+                b->pathFlags[next] = 0;
         }
     }
     r.alive = alive ? 1 : 0;
@@ -138,6 +140,7 @@ __kernel void shade_bidirectional(RENDER_KERNEL_PARAMS)
         r = shade_camera_hit(&b, &params, slot, &rejected);
     queue_push4(queueItems, queueCounters, params.capacity,
                 lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
-                lanes(r.shadowRay, r.alive, slot >= 0 && !r.alive, 0), slot, scratch, SIMD_CAMERA_SHADING);
+                lanes(r.shadowRay, r.alive && PUSH_CONTINUING_PATHS, slot >= 0 && !r.alive, 0), slot, scratch,
+                SIMD_CAMERA_SHADING);
     report_nonfinite(queueCounters, rejected);
 }

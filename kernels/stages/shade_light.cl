@@ -153,10 +153,12 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     if (!path_fits(depth + 2, params->maxPathLength))
         return r; /* the next vertex could not even connect to the camera */
     Scatter s;
-    if (!continue_bidirectional(&bsdf, &hit, wLight, wLightL, u, true, cont, params, &mis, &beta, &s) ||
-        !store_continuation(b, slot, &hit, s.wi, beta, 0.0f, depth, rejected))
+    if (!continue_bidirectional(&bsdf, &hit, wLight, wLightL, u, true, cont, params, &mis, &beta, &s))
         return r;
-    store_mis(b->pathMis, slot, mis);
+    int next = store_continuation(b, params, slot, &hit, s.wi, beta, 0.0f, depth, rejected);
+    if (next < 0)
+        return r;
+    store_mis(b->pathMis, next, mis);
     r.alive = 1;
     return r;
 }
@@ -173,7 +175,7 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
         r = shade_light_hit(&b, &params, slot, &rejected);
     /* One reservation for the three queues and the light vertices. */
     Lanes queues = lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, COUNTER_LIGHT_VERTICES);
-    Lanes wants = lanes(r.shadowRay, r.alive, slot >= 0 && !r.alive, r.storeVertex);
+    Lanes wants = lanes(r.shadowRay, r.alive && PUSH_CONTINUING_PATHS, slot >= 0 && !r.alive, r.storeVertex);
     Lanes at = group_allocate4(queueCounters, queues, wants, scratch, SIMD_LIGHT_SHADING);
     if (at.x >= 0)
         queueItems[queues.x * params.capacity + at.x] = slot;

@@ -65,19 +65,41 @@ INLINE bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, vec3
     return true;
 }
 
+/* Where path `slot` continues: compacted (path_state.h), the next ray queue's
+ * next entry, pushed here, in the other region, with what the path keeps
+ * unchanged carried there; else its own slot, pushed by the caller. */
+INLINE int continuation_slot(const RenderBuffers* b, const LaunchParams* params, int slot)
+{
+#ifdef COMPACT_PATHS
+    int at = atomic_inc(&b->queueCounters[COUNTER_INDEX(params->nextRayQueue)]);
+    int next = region_first_slot(params->nextRayQueue, params->capacity) + at;
+    b->queueItems[params->nextRayQueue * params->capacity + at] = next;
+    b->pathPixel[next] = b->pathPixel[slot];
+#ifdef BIDIRECTIONAL
+    b->pathFlags[next] = b->pathFlags[slot];
+    b->pathLastVertex[next] = b->pathLastVertex[slot];
+#endif
+    return next;
+#else
+    return slot;
+#endif
+}
+
 /* The next segment of path `slot`: from `hit` along wi, with throughput beta
  * (w: pt's η² scale, else 0) and depth `depth` for the vertex it leaves.
- * False, and nothing stored, when beta is zero or rejected by the NaN policy
- * (counted in *rejected): the path ends. */
-INLINE bool store_continuation(const RenderBuffers* b, int slot, const SurfaceHit* hit, vec3 wi, vec3 beta,
-                               float w, int depth, int* rejected)
+ * Returns the slot it is stored in (continuation_slot), where the caller
+ * stores the rest of what changed; -1, and nothing stored, when beta is zero
+ * or rejected by the NaN policy (counted in *rejected): the path ends. */
+INLINE int store_continuation(const RenderBuffers* b, const LaunchParams* params, int slot, const SurfaceHit* hit,
+                              vec3 wi, vec3 beta, float w, int depth, int* rejected)
 {
     if (!accept_finite(beta, rejected) || !(max_component(beta) > 0.0f))
-        return false;
-    store_ray(b->rayOrigins, b->rayDirections, slot, spawn_ray(hit->p, hit->pError, hit->ngF, wi));
-    store_vec3w(b->pathThroughput, slot, beta, w);
-    b->pathDepth[slot] = depth;
-    return true;
+        return -1;
+    int next = continuation_slot(b, params, slot);
+    store_ray(b->rayOrigins, b->rayDirections, next, spawn_ray(hit->p, hit->pError, hit->ngF, wi));
+    store_vec3w(b->pathThroughput, next, beta, w);
+    b->pathDepth[next] = depth;
+    return next;
 }
 
 #endif

@@ -20,9 +20,38 @@
 #include "core/prefetch.h"
 #include "core/queues.h"
 #include "core/ray.h"
+#include "core/simd.h"
 #include "core/vec3.h"
 #include "interface/inline.h"
 #include "interface/kernel_interface.h"
+
+/* Paths compacted by round (COMPACT_PATHS, set by the host where every shade
+ * kernel pushes per item: Renderer::shadingOptions). The path state then
+ * holds two regions of `capacity` slots, one per round parity, and round r's
+ * rays are slots [0, n) of region r mod 2 in ray-queue order: a shade kernel
+ * that continues a path takes the next ray queue's next entry by an atomic
+ * and writes the whole path to that slot of the other region
+ * (store_continuation), and generate starts new paths right after the
+ * continuing ones. Every kernel then reads its queue's path state in address
+ * order, as pbrt-v4's queues of work items give (pt 1.00-1.11x, bpt and vcm
+ * 1.02-1.19x the iterations per second: docs/performance.md). Elsewhere a
+ * path keeps its slot, and new paths take the free queue's. Options that
+ * override the host's (scripts/vectorizer_report.py's SIMD shading) fall back
+ * to the latter, leaving the second region unused. */
+#if defined(COMPACT_PATHS) && (SIMD_CAMERA_SHADING || SIMD_LIGHT_SHADING || !defined(PUSH_PER_ITEM))
+#undef COMPACT_PATHS
+#endif
+
+/* Whether a shade kernel pushes a path that continues to the next ray queue
+ * with its other pushes: not where store_continuation took its entry. */
+#ifdef COMPACT_PATHS
+#define PUSH_CONTINUING_PATHS 0
+#else
+#define PUSH_CONTINUING_PATHS 1
+#endif
+
+/* The first slot of the region that holds the rays of `rayQueue`'s round (compacted paths). */
+INLINE int region_first_slot(int rayQueue, int capacity) { return rayQueue == QUEUE_RAYS(0) ? 0 : capacity; }
 
 /* Bits of pathFlags. */
 #define PATH_FINITE_LIGHT 1 /* a light path from a light with a position */
@@ -134,7 +163,9 @@ INLINE void prefetch_shade_outputs(const RenderBuffers* b, int capacity, int que
 #ifdef HAS_PREFETCH
     int slot = queue_item(b->queueItems, b->queueCounters, capacity, queue, i + 2 * PREFETCH_DISTANCE);
     if (slot >= 0) {
+#ifndef COMPACT_PATHS /* there the path continues elsewhere */
         PREFETCH(&b->rayOrigins[slot], 16);
+#endif
 #ifdef BIDIRECTIONAL
         PREFETCH(&b->pathFlags[slot], 4);
 #endif
