@@ -1,5 +1,6 @@
-/* generate: start new paths in the first free slots of the round, as many as
- * plan_round decided, and append their first rays to the ray queue after the
+/* generate: start new paths in the round's free slots (or, compacted, the
+ * slots after the continuing paths': path_state.h), as many as plan_round
+ * decided, and append their first rays to the ray queue after the
  * continuing ones: item i takes sample firstSample + ROUND_FIRST + i and
  * ray-queue entry ROUND_RAYS + i, with no atomics.
  *   plan_round      one work-item, first in every round (below);
@@ -47,8 +48,8 @@ __kernel void plan_round(RENDER_KERNEL_PARAMS)
 /* The slot of new path i of the round (and its sample), or -1 past them:
  * compacted (path_state.h), the one after the continuing paths' in the
  * round's region; else the free queue's i-th. */
-INLINE int take_free_slot(__global int* queueItems, __global const int* queueCounters, const LaunchParams* p,
-                          int* sample)
+INLINE int new_path_slot(__global int* queueItems, __global const int* queueCounters, const LaunchParams* p,
+                         int* sample)
 {
     int i = get_global_id(0);
     if (i >= queueCounters[COUNTER_INDEX(COUNTER_ROUND_NEW)])
@@ -66,7 +67,7 @@ INLINE int take_free_slot(__global int* queueItems, __global const int* queueCou
 __kernel void generate(RENDER_KERNEL_PARAMS)
 {
     int sample;
-    int slot = take_free_slot(queueItems, queueCounters, &params, &sample);
+    int slot = new_path_slot(queueItems, queueCounters, &params, &sample);
     if (slot < 0)
         return;
     int pixel = sample_pixel(&params, sample);
@@ -86,7 +87,7 @@ __kernel void generate(RENDER_KERNEL_PARAMS)
 __kernel void generate_light(RENDER_KERNEL_PARAMS)
 {
     int lightPath;
-    int slot = take_free_slot(queueItems, queueCounters, &params, &lightPath);
+    int slot = new_path_slot(queueItems, queueCounters, &params, &lightPath);
     if (slot < 0)
         return;
     uint index = sample_index(&params, lightPath), pixel = (uint)sample_pixel(&params, lightPath);
