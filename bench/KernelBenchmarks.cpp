@@ -244,8 +244,7 @@ void renderKernel(benchmark::State& state, Algorithm algorithm, const std::strin
         state.SetItemsProcessed(state.items_processed() + int64_t(now.items - before.items));
         before = now;
     }
-    state.counters["bytes_per_path"] =
-        double(PathState::bytesPerPath(Renderer::shading(f.device, f.scene.features(), algorithm).pathStateRegions()));
+    state.counters["bytes_per_path"] = double(PathState::bytesPerPath());
     state.counters["bytes_per_light_vertex"] = double(sizeof(LightVertex));
 }
 

@@ -72,11 +72,9 @@ TEST(MultiDevice, SameDeviceTwiceGivesTheImageOfOne)
 // compute units and of the memory, together the image of the whole device.
 // On a 2-core machine each sub-device has one compute unit, where the queue
 // pushes reserve their entries with an atomic per item instead of one per
-// work-group (Renderer::deviceOptions), and where every shade kernel does,
-// paths are compacted by round (kernels/transport/path_state.h) where the
-// whole device keeps each path in its slot: the two ways must give the same
-// image. bpt with queued vertex connections covers the connection queue's
-// reservation of several entries per item.
+// work-group (Renderer::deviceOptions): the queues then hold the same slots
+// in the same order. bpt with queued vertex connections covers the
+// connection queue's reservation of several entries per item.
 TEST(MultiDevice, PipelinesOnSubDevicesGiveTheImageOfOne)
 {
     DeviceInfo device = test::devicesUnderTest()[0];
@@ -103,10 +101,6 @@ TEST(MultiDevice, PipelinesOnSubDevicesGiveTheImageOfOne)
                    Case{Algorithm::Bidirectional, VertexConnections::Queued}}) {
         Algorithm a = c.algorithm;
         SCOPED_TRACE(algorithmName(a));
-        if (device.computeUnits > 1) // the whole device pushes through the work-group: slots kept
-            EXPECT_FALSE(Renderer::shading(device, scene.features(), a).compactsPaths());
-        std::printf("[ paths ] %s: %s on the pipelines\n", algorithmName(a).c_str(),
-                    Renderer::shading(pipelines[0], scene.features(), a).compactsPaths() ? "compacted" : "in their slots");
         Result one = renderOn({device}, scene, a, 12, 5, {}, c.connections),
                two = renderOn(pipelines, scene, a, 12, 5, {}, c.connections);
         ASSERT_EQ(two.shares.size(), 2u);

@@ -53,7 +53,7 @@ std::string Renderer::programOptions(Algorithm algorithm, const SceneFeatures& f
     return options;
 }
 
-Renderer::Shading Renderer::shading(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm)
+std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm)
 {
     // Work-items in SIMD (kernels/core/simd.h) where PoCL's LLVM takes the options (cl/PoclVectorizer.h):
     // generate, generate_light and shade_eyelight always; the shade kernels with AVX-512 only, and there
@@ -64,25 +64,17 @@ Renderer::Shading Renderer::shading(const DeviceInfo& device, const SceneFeature
     // shade_bidirectional 1.08-1.34x under vcm and bpt but 0.75-0.85x under ppm, whose camera paths end
     // at their first non-delta hit; pt's shade 1.09x. Without GGX all gain. lt's camera paths do next to
     // nothing (in SIMD, while its scalar shade_light also lost its per-item pushes, lt ran 0.95-0.96x).
-    Shading s;
     bool simdShading = vectorizesShading(device);
     bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0;
     bool cameraWork = algorithm != Algorithm::ProgressivePhotonMapping && algorithm != Algorithm::LightTracing;
-    s.simdCamera = simdShading && (!ggx || cameraWork);
-    s.simdLight = simdShading && !ggx;
+    bool simdCamera = simdShading && (!ggx || cameraWork);
+    bool simdLight = simdShading && !ggx;
     // kernels/core/queues.h, pushes_per_item: where the device has one compute unit, the kernels that run
     // one work-item at a time push by an atomic per item, there cheaper than the work-group's barriers
     // (PoCL may still run its groups on other threads: atomics); SIMD kernels through the group.
-    s.pushPerItem = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
-    return s;
-}
-
-std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm)
-{
-    Shading s = shading(device, features, algorithm);
-    return std::string(s.simdCamera ? " -DSIMD_CAMERA_SHADING=1" : "") +
-           (s.simdLight ? " -DSIMD_LIGHT_SHADING=1" : "") + (s.pushPerItem ? " -DPUSH_PER_ITEM" : "") +
-           (s.compactsPaths() ? " -DCOMPACT_PATHS" : "") + llvmOptionsKey();
+    bool oneThread = (device.type & CL_DEVICE_TYPE_CPU) && device.computeUnits == 1;
+    return std::string(simdCamera ? " -DSIMD_CAMERA_SHADING=1" : "") + (simdLight ? " -DSIMD_LIGHT_SHADING=1" : "") +
+           (oneThread ? " -DPUSH_PER_ITEM" : "") + llvmOptionsKey();
 }
 
 // The light selection's binary search as a fixed number of steps
@@ -92,10 +84,10 @@ std::string lightSelectOption(int lightCount)
     return " -DLIGHT_SELECT_STEPS=" + std::to_string(binarySearchSteps(lightCount));
 }
 
-int defaultWavefront(const DeviceInfo& device, int regions)
+int defaultWavefront(const DeviceInfo& device)
 {
     size_t wanted = (device.type & CL_DEVICE_TYPE_GPU) ? (size_t(1) << 21) : (size_t(1) << 18);
-    size_t fits = device.globalMemory / 4 / PathState::bytesPerPath(regions);
+    size_t fits = device.globalMemory / 4 / PathState::bytesPerPath();
     return int(std::max<size_t>(1024, std::min(wanted, fits)));
 }
 
@@ -104,20 +96,18 @@ constexpr size_t kBytesPerConnection = 3 * sizeof(cl_float4);
 
 static size_t roundUp(size_t x, size_t multiple) { return (x + multiple - 1) / multiple * multiple; }
 
-static PathState makePathState(DeviceContext& device, const RenderSettings& s, int regions, KernelBuffers& buffers)
+static PathState makePathState(DeviceContext& device, const RenderSettings& s, KernelBuffers& buffers)
 {
-    int wavefront = s.wavefront > 0 ? s.wavefront : defaultWavefront(device.info, regions);
+    int wavefront = s.wavefront > 0 ? s.wavefront : defaultWavefront(device.info);
     // Launches cover queue sizes in work-groups of 64, so the capacity is a
     // multiple of 64, and no larger than one iteration needs.
     wavefront = int(std::min<int64_t>(wavefront, int64_t(s.width) * s.height * s.samplesPerIteration));
-    return PathState(device, int(roundUp(size_t(wavefront), 64)), regions, buffers);
+    return PathState(device, int(roundUp(size_t(wavefront), 64)), buffers);
 }
 
 Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, const RenderSettings& settings)
     : device_(device), settings_(settings), lights_(buildLightTable(scene, bvh)),
-      sceneBuffers_(device, scene, bvh, lights_), paths_(makePathState(device, settings,
-                                 shading(device.info, scene.features(), settings.algorithm).pathStateRegions(),
-                                 buffers_))
+      sceneBuffers_(device, scene, bvh, lights_), paths_(makePathState(device, settings, buffers_))
 {
     Algorithm algorithm = settings.algorithm;
     bidirectional_ = algorithm != Algorithm::EyeLight && algorithm != Algorithm::PathTracing;
@@ -185,7 +175,6 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     planRound_ = kernel("plan_round");
     roundsAhead_ = settings.roundsAhead;
     phaseStartCounters_.assign(COUNTER_INDEX(COUNTER_PHASE_STATE), 0);
-    phaseStartCounters_[COUNTER_INDEX(QUEUE_FREE(0))] = paths_.capacity;
     roundCounters_.assign(size_t(roundsAhead_) + 1, std::vector<int>(COUNTER_INDEX(COUNTER_PHASE_STATE)));
 
     // Camera sub-paths.
@@ -369,21 +358,20 @@ void Renderer::launch(cl::Kernel& kernel, size_t items)
 
 // One round: the vertex connections the last round queued are traced (as
 // many as `connections`, or an upper bound of them), plan_round decides on
-// the device how many new paths start (as many as there are free slots and
-// samples left), then every live path advances one segment. Launches cover
+// the device how many new paths start (as many as there are slots after the
+// last round's hits and samples left: kernels/transport/path_state.h), then
+// every live path advances one segment. Launches cover
 // `fresh` new paths and `live` paths in all: the actual numbers, or upper
 // bounds of them (kernels skip the items past their queue's size on the
 // device). With live = 0, the last round's connections and the plan alone:
-// it counts the last round's shadow rays. Consumes RAYS(parity) and
-// FREE(parity), fills the other pair.
+// it counts the last round's shadow rays. Consumes RAYS(parity), fills
+// RAYS(1 - parity).
 void Renderer::round(Phase& phase, int parity, size_t fresh, size_t live, size_t connections)
 {
     // The last round's queued vertex connections, before plan_round empties the queue.
     if (phase.hasTraceConnections && connections > 0) launch(phase.traceConnections, connections);
     params_.rayQueue = QUEUE_RAYS(parity);
-    params_.freeQueue = QUEUE_FREE(parity);
     params_.nextRayQueue = QUEUE_RAYS(1 - parity);
-    params_.nextFreeQueue = QUEUE_FREE(1 - parity);
     launch(planRound_, 1);
     if (live == 0) return;
     if (fresh > 0) launch(phase.generate, fresh);
@@ -416,17 +404,14 @@ bool Renderer::runPhase(Phase& phase, int firstSample, int count)
     params_.cameraPaths = phase.cameraPaths ? 1 : 0;
     params_.firstSample = firstSample;
     params_.samples = count;
-    // Every queue empty but FREE(0), which holds every slot.
+    // Every queue empty.
     device_.queue.enqueueWriteBuffer(buffers_.queueCounters, CL_FALSE, 0, phaseStartCounters_.size() * sizeof(int),
                                      phaseStartCounters_.data());
-    device_.queue.enqueueCopyBuffer(paths_.slotIndices, buffers_.queueItems, 0,
-                                    size_t(QUEUE_FREE(0)) * paths_.capacity * sizeof(int),
-                                    size_t(paths_.capacity) * sizeof(int));
     size_t capacity = size_t(paths_.capacity);
     // Paths alive at the start of the round after the one these counters
     // were read after, and of them how many are new (plan_round's rule).
     auto nextRound = [&](const std::vector<int>& now, int parity, size_t* fresh) {
-        size_t free = size_t(now[COUNTER_INDEX(QUEUE_FREE(1 - parity))]);
+        size_t free = capacity - size_t(now[COUNTER_INDEX(QUEUE_HITS)]);
         *fresh = std::min(free, size_t(count - now[COUNTER_INDEX(COUNTER_ISSUED)]));
         return size_t(now[COUNTER_INDEX(QUEUE_RAYS(1 - parity))]) + *fresh;
     };

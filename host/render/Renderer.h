@@ -130,16 +130,6 @@ public:
     // the algorithm and the scene's lobes, which decide whether its shading
     // runs in SIMD there).
     static std::string deviceOptions(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm);
-    // How the shade kernels run on `device` (deviceOptions): in SIMD or one
-    // work-item at a time, and whether the kernels push per item. Where every
-    // shade kernel pushes per item, paths are compacted by round
-    // (kernels/transport/path_state.h), in two regions of path state.
-    struct Shading {
-        bool simdCamera = false, simdLight = false, pushPerItem = false;
-        bool compactsPaths() const { return pushPerItem && !simdCamera && !simdLight; }
-        int pathStateRegions() const { return compactsPaths() ? 2 : 1; }
-    };
-    static Shading shading(const DeviceInfo& device, const SceneFeatures& features, Algorithm algorithm);
     // Whether the connection queue is used on `device` (bpt and vcm only).
     static bool usesConnectionQueue(const RenderSettings& settings, const DeviceInfo& device);
 
@@ -210,8 +200,8 @@ private:
 };
 
 // Default wavefront capacity: ~256K paths on a CPU, 2M on a GPU, at most what
-// a quarter of the device's memory holds (in `regions` regions of path state).
-int defaultWavefront(const DeviceInfo& device, int regions);
+// a quarter of the device's memory holds.
+int defaultWavefront(const DeviceInfo& device);
 // -DLIGHT_SELECT_STEPS for a light table of lightCount lights.
 std::string lightSelectOption(int lightCount);
 

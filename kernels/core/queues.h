@@ -130,20 +130,21 @@ INLINE Lanes group_allocate4(__global int* counters, Lanes counter, Lanes wants,
                  wants.z ? scratch[6] + index.z : -1, wants.w ? scratch[7] + index.w : -1);
 }
 
-/* Appends `slot` to each queue of `queues` whose lane of `push` is set
- * (group_allocate4's rules apply; unused lanes: NO_COUNTER, push 0). */
-INLINE void queue_push4(__global int* items, __global int* counters, int capacity, Lanes queues, Lanes push, int slot,
-                        __local int* scratch, bool simd)
+/* Appends the slot of each lane of `slots` to the lane's queue of `queues`
+ * where its lane of `push` is set (group_allocate4's rules apply; unused
+ * lanes: NO_COUNTER, push 0). */
+INLINE void queue_push4(__global int* items, __global int* counters, int capacity, Lanes queues, Lanes push,
+                        Lanes slots, __local int* scratch, bool simd)
 {
     Lanes at = group_allocate4(counters, queues, push, scratch, simd);
     if (at.x >= 0)
-        items[queues.x * capacity + at.x] = slot;
+        items[queues.x * capacity + at.x] = slots.x;
     if (at.y >= 0)
-        items[queues.y * capacity + at.y] = slot;
+        items[queues.y * capacity + at.y] = slots.y;
     if (at.z >= 0)
-        items[queues.z * capacity + at.z] = slot;
+        items[queues.z * capacity + at.z] = slots.z;
     if (at.w >= 0)
-        items[queues.w * capacity + at.w] = slot;
+        items[queues.w * capacity + at.w] = slots.w;
 }
 
 /* The first of `n` consecutive entries of `counter` for this work-item (the

@@ -6,24 +6,17 @@
  * in every work-item loop it can legally vectorize: one without vector
  * types, atomics, prefetches, switches or loops of unknown trip count (LLVM
  * makes a switch of a chain of equality tests on one value: lights/lights.h,
- * light_is). Each kernel that can run so tells the code it shares whether
- * it does (a constant: shade_slot leaves out its prefetch hints, queue pushes
- * go through the group rather than by an atomic per item, core/queues.h):
- *
- * SIMD_WORK_ITEMS (1 where the options are in force): generate,
- * generate_light and shade_eyelight, vectorized as written.
- * SIMD_CAMERA_SHADING, SIMD_LIGHT_SHADING (1 where the host set the options
- * and chose SIMD for the camera paths' shade kernel, shade or
- * shade_bidirectional, or for shade_light: Renderer::deviceOptions says
- * when): that kernel. */
+ * light_is). generate, generate_light and shade_eyelight run so as written
+ * wherever the options are in force. The shade kernels tell the code they
+ * share whether they do (a constant: shade_slot leaves out its prefetch
+ * hints, queue pushes go through the group rather than by an atomic per item,
+ * core/queues.h): SIMD_CAMERA_SHADING and SIMD_LIGHT_SHADING are 1 where the
+ * host set the options and chose SIMD for the camera paths' shade kernel,
+ * shade or shade_bidirectional, or for shade_light (Renderer::deviceOptions
+ * says when). */
 #ifndef WAVEVCM_SIMD_H
 #define WAVEVCM_SIMD_H
 
-#ifdef LLVM_OPTIONS_KEY
-#define SIMD_WORK_ITEMS 1
-#else
-#define SIMD_WORK_ITEMS 0
-#endif
 #ifndef SIMD_CAMERA_SHADING
 #define SIMD_CAMERA_SHADING 0
 #endif

@@ -43,8 +43,8 @@ namespace wv {
     X(__constant, SceneInfo, scene, 0)                                                                     \
     X(__constant, Camera, camera, 0)
 
-/* One wavefront of paths, indexed by path slot (transport/path_state.h): `capacity` slots, or
- * two regions of them where paths are compacted by round (COMPACT_PATHS). */
+/* One wavefront of paths, indexed by path slot (transport/path_state.h): two
+ * regions of `capacity` slots, one per round parity. */
 #define PATH_STATE_BUFFERS(X)                                                                              \
     X(__global, float4, rayOrigins, 1)                                                                     \
     X(__global, float4, rayDirections, 1)    /* w = tMax */                                                \
@@ -99,9 +99,7 @@ typedef struct LaunchParams {
     /* The round (host/render/Renderer.cpp: round) */
     int capacity;       /* path slots */
     int rayQueue;       /* RAYS(parity): generate appends to it, extend consumes it */
-    int freeQueue;      /* FREE(parity): generate takes its slots from it */
     int nextRayQueue;   /* RAYS(1 - parity): paths that continue */
-    int nextFreeQueue;  /* FREE(1 - parity): slots whose path ended */
     /* The phase */
     int firstSample;     /* its samples are [firstSample, firstSample + samples) */
     int samples;

@@ -1,8 +1,7 @@
 /* escaped: camera rays that left the scene see the background light,
  * MIS-weighted against the other techniques that find it (power heuristic
  * against next-event estimation for pt, the recursive weights for the
- * bidirectional algorithms); light paths that leave just end. The slot is
- * freed either way. */
+ * bidirectional algorithms); light paths that leave just end. */
 #include "core/nan_policy.h"
 #include "core/queues.h"
 #include "lights/lights.h"
@@ -11,7 +10,6 @@
 
 __kernel void escaped(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[QUEUE_SCRATCH_INTS];
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_ESCAPED, get_global_id(0));
     int rejected = 0;
 #if defined(HAS_BACKGROUND) && !defined(EYE_LIGHT)
@@ -39,13 +37,5 @@ __kernel void escaped(RENDER_KERNEL_PARAMS)
                      &rejected);
     }
 #endif
-    /* One work-item at a time, whatever the options (core/simd.h): in SIMD
-     * it would push through its group, whose barriers cost more than the
-     * whole kernel does one item at a time, with its push by an atomic per
-     * item (pt, AVX2 with the options forced: Cornell box 12 against 2 ms
-     * per iteration, with a background 19-20 against 5-6). */
-    queue_push4(queueItems, queueCounters, params.capacity,
-                lanes(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), lanes(slot >= 0, 0, 0, 0), slot,
-                scratch, false);
     report_nonfinite(queueCounters, rejected);
 }

@@ -20,5 +20,5 @@ __kernel void extend(RENDER_KERNEL_PARAMS)
         store_vec2(hitBary, slot, v2(hit.b1, hit.b2));
     }
     queue_push4(queueItems, queueCounters, params.capacity, lanes(QUEUE_HITS, QUEUE_ESCAPED, NO_COUNTER, NO_COUNTER),
-                lanes(slot >= 0 && found, slot >= 0 && !found, 0, 0), slot, scratch, false);
+                lanes(slot >= 0 && found, slot >= 0 && !found, 0, 0), lanes(slot, slot, 0, 0), scratch, false);
 }

@@ -1,8 +1,8 @@
-/* generate: start new paths in the round's free slots (or, compacted, the
- * slots after the continuing paths': path_state.h), as many as plan_round
- * decided, and append their first rays to the ray queue after the
- * continuing ones: item i takes sample firstSample + ROUND_FIRST + i and
- * ray-queue entry ROUND_RAYS + i, with no atomics.
+/* generate: start new paths in the round's region after the places of the
+ * last round's hits (path_state.h), as many as plan_round decided, and
+ * append their first rays to the ray queue after the continuing ones: item i
+ * takes sample firstSample + ROUND_FIRST + i and ray-queue entry
+ * ROUND_RAYS + i, with no atomics.
  *   plan_round      one work-item, first in every round (below);
  *   generate        camera paths, samplesPerIteration per pixel (sample_pixel,
  *                   path_state.h), with a jittered primary ray (box filter);
@@ -17,12 +17,14 @@
 #include "transport/mis.h"
 #include "transport/path_state.h"
 
-/* The round's plan: as many new paths as there are free slots and samples
- * left in the phase; the rays the round traces counted (with the previous
- * round's shadow rays); the queues the round fills emptied. Being on the
- * device, it lets the host enqueue a round before the previous one has run
- * (Renderer::runPhase): every kernel is launched over an upper bound of its
- * queue and skips the items past its actual size. */
+/* The round's plan: as many new paths as there are samples left in the
+ * phase and slots in the round's region after the places of the last round's
+ * hits, where its continuing paths lie (path_state.h); the rays the round
+ * traces counted (with the previous round's shadow rays); the queues the
+ * round fills emptied. Being on the device, it lets the host enqueue a round
+ * before the previous one has run (Renderer::runPhase): every kernel is
+ * launched over an upper bound of its queue and skips the items past its
+ * actual size. */
 __kernel void plan_round(RENDER_KERNEL_PARAMS)
 {
     if (get_global_id(0) != 0)
@@ -30,10 +32,12 @@ __kernel void plan_round(RENDER_KERNEL_PARAMS)
     __global int* c = queueCounters;
     int rays = c[COUNTER_INDEX(params.rayQueue)];
     int issued = c[COUNTER_INDEX(COUNTER_ISSUED)];
-    int fresh = min(c[COUNTER_INDEX(params.freeQueue)], params.samples - issued);
+    int firstNewSlot = c[COUNTER_INDEX(QUEUE_HITS)];
+    int fresh = min(params.capacity - firstNewSlot, params.samples - issued);
     c[COUNTER_INDEX(COUNTER_ROUND_FIRST)] = issued;
     c[COUNTER_INDEX(COUNTER_ROUND_NEW)] = fresh;
     c[COUNTER_INDEX(COUNTER_ROUND_RAYS)] = rays;
+    c[COUNTER_INDEX(COUNTER_ROUND_NEW_SLOT)] = firstNewSlot;
     c[COUNTER_INDEX(COUNTER_ISSUED)] = issued + fresh;
     c[COUNTER_INDEX(params.rayQueue)] = rays + fresh;
     *(__global ulong*)&c[COUNTER_INDEX(COUNTER_RAYS_TRACED)] += (ulong)(rays + fresh + c[COUNTER_INDEX(QUEUE_SHADOW)]);
@@ -42,23 +46,17 @@ __kernel void plan_round(RENDER_KERNEL_PARAMS)
     c[COUNTER_INDEX(QUEUE_SHADOW)] = 0;
     c[COUNTER_INDEX(COUNTER_CONNECTIONS)] = 0; /* traced before this plan (Renderer::round) */
     c[COUNTER_INDEX(params.nextRayQueue)] = 0;
-    c[COUNTER_INDEX(params.nextFreeQueue)] = 0;
 }
 
-/* The slot of new path i of the round (and its sample), or -1 past them:
- * compacted (path_state.h), the one after the continuing paths' in the
- * round's region; else the free queue's i-th. */
+/* The slot of new path i of the round (and its sample), or -1 past them: in
+ * the round's region, after the places of the last round's hits. */
 INLINE int new_path_slot(__global int* queueItems, __global const int* queueCounters, const LaunchParams* p,
                          int* sample)
 {
     int i = get_global_id(0);
     if (i >= queueCounters[COUNTER_INDEX(COUNTER_ROUND_NEW)])
         return -1;
-#ifdef COMPACT_PATHS
-    int slot = region_first_slot(p->rayQueue, p->capacity) + queueCounters[COUNTER_INDEX(COUNTER_ROUND_RAYS)] + i;
-#else
-    int slot = queueItems[p->freeQueue * p->capacity + i];
-#endif
+    int slot = region_first_slot(p->rayQueue, p->capacity) + queueCounters[COUNTER_INDEX(COUNTER_ROUND_NEW_SLOT)] + i;
     queueItems[p->rayQueue * p->capacity + queueCounters[COUNTER_INDEX(COUNTER_ROUND_RAYS)] + i] = slot;
     *sample = p->firstSample + queueCounters[COUNTER_INDEX(COUNTER_ROUND_FIRST)] + i;
     return slot;

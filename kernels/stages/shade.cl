@@ -121,8 +121,8 @@ __kernel void shade(RENDER_KERNEL_PARAMS)
     if (slot >= 0)
         shade_hit(&b, &params, slot, &alive, &shadowRay, &rejected);
     queue_push4(queueItems, queueCounters, params.capacity,
-                lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, NO_COUNTER),
-                lanes(shadowRay, alive && PUSH_CONTINUING_PATHS, slot >= 0 && !alive, 0), slot, scratch,
+                lanes(QUEUE_SHADOW, params.nextRayQueue, NO_COUNTER, NO_COUNTER),
+                lanes(shadowRay, alive, 0, 0), lanes(slot, next_round_slot(&params), 0, 0), scratch,
                 SIMD_CAMERA_SHADING);
     report_nonfinite(queueCounters, rejected);
 }

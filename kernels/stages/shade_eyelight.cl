@@ -3,13 +3,11 @@
  * 0 where the ray escapes). Exercises scene, BVH, kernels and output before
  * any light transport. */
 #include "core/queues.h"
-#include "core/simd.h"
 #include "materials/surface_bsdf.h"
 #include "transport/path_state.h"
 
 __kernel void shade_eyelight(RENDER_KERNEL_PARAMS)
 {
-    __local int scratch[QUEUE_SCRATCH_INTS];
     RenderBuffers b = RENDER_BUFFERS_VALUE;
     int slot = queue_item(queueItems, queueCounters, params.capacity, QUEUE_HITS, get_global_id(0));
     if (slot >= 0) {
@@ -18,7 +16,4 @@ __kernel void shade_eyelight(RENDER_KERNEL_PARAMS)
         float value = fabs(v3_dot(w, hit.nsF));
         add_vec3(pixelRadiance, pathPixel[slot], v3s(value));
     }
-    queue_push4(queueItems, queueCounters, params.capacity,
-                lanes(params.nextFreeQueue, NO_COUNTER, NO_COUNTER, NO_COUNTER), lanes(slot >= 0, 0, 0, 0), slot,
-                scratch, SIMD_WORK_ITEMS);
 }

@@ -35,8 +35,9 @@ typedef struct LightHitResult {
     StoredLightVertex vertex; /* to store after the group's reservation */
 } LightHitResult;
 
-/* Stores vertex v of the light path in `slot` at place `at` of the light
- * vertex buffer; for vertex connection, linked after the path's last one.
+/* Stores vertex v of the light path whose list `slot` holds (its last vertex
+ * and their number) at place `at` of the light vertex buffer; for vertex
+ * connection, linked after the path's last one.
  * The counter keeps counting past the buffer's end, so the host sees how
  * many vertices were wanted and can retry with room for them; past it
  * nothing is stored. */
@@ -173,17 +174,16 @@ __kernel void shade_light(RENDER_KERNEL_PARAMS)
     int rejected = 0;
     if (slot >= 0)
         r = shade_light_hit(&b, &params, slot, &rejected);
-    /* One reservation for the three queues and the light vertices. */
-    Lanes queues = lanes(QUEUE_SHADOW, params.nextRayQueue, params.nextFreeQueue, COUNTER_LIGHT_VERTICES);
-    Lanes wants = lanes(r.shadowRay, r.alive && PUSH_CONTINUING_PATHS, slot >= 0 && !r.alive, r.storeVertex);
+    /* One reservation for the two queues and the light vertices. */
+    int next = next_round_slot(&params);
+    Lanes queues = lanes(QUEUE_SHADOW, params.nextRayQueue, COUNTER_LIGHT_VERTICES, NO_COUNTER);
+    Lanes wants = lanes(r.shadowRay, r.alive, r.storeVertex, 0);
     Lanes at = group_allocate4(queueCounters, queues, wants, scratch, SIMD_LIGHT_SHADING);
     if (at.x >= 0)
         queueItems[queues.x * params.capacity + at.x] = slot;
     if (at.y >= 0)
-        queueItems[queues.y * params.capacity + at.y] = slot;
-    if (at.z >= 0)
-        queueItems[queues.z * params.capacity + at.z] = slot;
-    if (at.w >= 0)
-        append_light_vertex(&b, &params, slot, at.w, &r.vertex);
+        queueItems[queues.y * params.capacity + at.y] = next;
+    if (at.z >= 0) /* the path's list now goes on from its next slot, where it continues */
+        append_light_vertex(&b, &params, r.alive ? next : slot, at.z, &r.vertex);
     report_nonfinite(queueCounters, rejected);
 }

@@ -65,24 +65,17 @@ INLINE bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, vec3
     return true;
 }
 
-/* Where path `slot` continues: compacted (path_state.h), the next ray queue's
- * next entry, pushed here, in the other region, with what the path keeps
- * unchanged carried there; else its own slot, pushed by the caller. */
+/* Where path `slot` continues (next_round_slot, path_state.h), with what the
+ * path keeps unchanged carried there. */
 INLINE int continuation_slot(const RenderBuffers* b, const LaunchParams* params, int slot)
 {
-#ifdef COMPACT_PATHS
-    int at = atomic_inc(&b->queueCounters[COUNTER_INDEX(params->nextRayQueue)]);
-    int next = region_first_slot(params->nextRayQueue, params->capacity) + at;
-    b->queueItems[params->nextRayQueue * params->capacity + at] = next;
+    int next = next_round_slot(params);
     b->pathPixel[next] = b->pathPixel[slot];
 #ifdef BIDIRECTIONAL
     b->pathFlags[next] = b->pathFlags[slot];
     b->pathLastVertex[next] = b->pathLastVertex[slot];
 #endif
     return next;
-#else
-    return slot;
-#endif
 }
 
 /* The next segment of path `slot`: from `hit` along wi, with throughput beta

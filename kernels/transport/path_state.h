@@ -20,38 +20,32 @@
 #include "core/prefetch.h"
 #include "core/queues.h"
 #include "core/ray.h"
-#include "core/simd.h"
 #include "core/vec3.h"
 #include "interface/inline.h"
 #include "interface/kernel_interface.h"
 
-/* Paths compacted by round (COMPACT_PATHS, set by the host where every shade
- * kernel pushes per item: Renderer::shadingOptions). The path state then
- * holds two regions of `capacity` slots, one per round parity, and round r's
- * rays are slots [0, n) of region r mod 2 in ray-queue order: a shade kernel
- * that continues a path takes the next ray queue's next entry by an atomic
- * and writes the whole path to that slot of the other region
- * (store_continuation), and generate starts new paths right after the
- * continuing ones. Every kernel then reads its queue's path state in address
- * order, as pbrt-v4's queues of work items give (pt 1.00-1.11x, bpt and vcm
- * 1.02-1.19x the iterations per second: docs/performance.md). Elsewhere a
- * path keeps its slot, and new paths take the free queue's. Options that
- * override the host's (scripts/vectorizer_report.py's SIMD shading) fall back
- * to the latter, leaving the second region unused. */
-#if defined(COMPACT_PATHS) && (SIMD_CAMERA_SHADING || SIMD_LIGHT_SHADING || !defined(PUSH_PER_ITEM))
-#undef COMPACT_PATHS
-#endif
+/* Paths by round, in two regions of `capacity` slots, one per round parity
+ * (pbrt-v4's queues of work items, as path state): a path that continues
+ * from hit-queue entry i is written whole to slot i of the other region
+ * (store_continuation), and generate starts the next round's new paths after
+ * the places of this round's hits. So the rays of a round, and its hits, lie
+ * in slot order with gaps only where paths ended, and every kernel reads its
+ * queue's path state nearly in address order, with neither a list of free
+ * slots nor state carried across a work-group's barriers (against paths
+ * that kept their slots, 2-core machine, Cornell box: pt, bpt, vcm
+ * 1.05-1.08x on two one-core pipelines; pt 1.09-1.11x, vcm 1.12-1.23x on
+ * one over both cores, which pushes through work-groups as GPUs do:
+ * docs/performance.md). */
 
-/* Whether a shade kernel pushes a path that continues to the next ray queue
- * with its other pushes: not where store_continuation took its entry. */
-#ifdef COMPACT_PATHS
-#define PUSH_CONTINUING_PATHS 0
-#else
-#define PUSH_CONTINUING_PATHS 1
-#endif
-
-/* The first slot of the region that holds the rays of `rayQueue`'s round (compacted paths). */
+/* The first slot of the region that holds the rays of `rayQueue`'s round. */
 INLINE int region_first_slot(int rayQueue, int capacity) { return rayQueue == QUEUE_RAYS(0) ? 0 : capacity; }
+
+/* The slot where the path a shade kernel's work-item shades (hit-queue entry
+ * get_global_id(0)) continues next round. */
+INLINE int next_round_slot(const LaunchParams* p)
+{
+    return region_first_slot(p->nextRayQueue, p->capacity) + (int)get_global_id(0);
+}
 
 /* Bits of pathFlags. */
 #define PATH_FINITE_LIGHT 1 /* a light path from a light with a position */
@@ -152,20 +146,15 @@ INLINE void prefetch_triangle(const RenderBuffers* b, int tri)
     PREFETCH(&b->triMaterials[tri], 4);
 }
 
-/* For the shade kernels, the lines of entry i + 2D's path state that
- * prefetch_hit_state leaves out: the ray origin, which continuing the path
- * writes (store_continuation; the queue push's locked increment waited for
- * that store's miss), and the bidirectional programs' path flags. Hints for
- * the shadow-ray arrays and a light path's last vertex as well made
- * shade_light slower (docs/performance.md). */
+/* For the shade kernels, the line of entry i + 2D's path state that
+ * prefetch_hit_state leaves out: the bidirectional programs' path flags.
+ * Hints for the shadow-ray arrays and a light path's last vertex as well
+ * made shade_light slower (docs/performance.md). */
 INLINE void prefetch_shade_outputs(const RenderBuffers* b, int capacity, int queue, int i)
 {
 #ifdef HAS_PREFETCH
     int slot = queue_item(b->queueItems, b->queueCounters, capacity, queue, i + 2 * PREFETCH_DISTANCE);
     if (slot >= 0) {
-#ifndef COMPACT_PATHS /* there the path continues elsewhere */
-        PREFETCH(&b->rayOrigins[slot], 16);
-#endif
 #ifdef BIDIRECTIONAL
         PREFETCH(&b->pathFlags[slot], 4);
 #endif
