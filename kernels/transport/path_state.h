@@ -31,11 +31,11 @@
  * the places of this round's hits. So the rays of a round, and its hits, lie
  * in slot order with gaps only where paths ended, and every kernel reads its
  * queue's path state nearly in address order, with neither a list of free
- * slots nor state carried across a work-group's barriers (against paths
- * that kept their slots, 2-core machine, Cornell box: pt, bpt, vcm
- * 1.05-1.08x on two one-core pipelines; pt 1.09-1.11x, vcm 1.12-1.23x on
- * one over both cores, which pushes through work-groups as GPUs do:
- * docs/performance.md). */
+ * slots nor state carried across a work-group's barriers. Against paths
+ * that kept their slots (2-core machine, Cornell box, medians): pt 0.96x,
+ * bpt 1.13x, vcm 1.17x on two one-core pipelines; on one over both cores,
+ * which pushes through work-groups as GPUs do, 1.00-1.19x
+ * (docs/performance.md). */
 
 /* The first slot of the region that holds the rays of `rayQueue`'s round. */
 INLINE int region_first_slot(int rayQueue, int capacity) { return rayQueue == QUEUE_RAYS(0) ? 0 : capacity; }
