@@ -4,8 +4,8 @@
  *   2. next-event estimation: sample a light, queue a shadow ray with its
  *      MIS-weighted contribution for `connect`;
  *   3. sample the BSDF to continue (Russian roulette after 3 segments, on the
- *      throughput with refraction's 1/η² divided out), or end the path and
- *      free the slot.
+ *      throughput with refraction's 1/η² divided out) in the next round's
+ *      slot (path_state.h), or end the path.
  * MIS uses the power heuristic (Veach 1997, §9.2.4) between BSDF sampling and
  * light sampling; delta lights and delta lobes take weight 1.
  * Path length as in path_state.h: a vertex of depth d continues (and
