@@ -14,6 +14,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 namespace wv {
 namespace {
 
@@ -92,6 +94,30 @@ TEST(Rounds, ImageDoesNotDependOnTheWavefront)
             EXPECT_EQ(r.rays, all.rays);
             EXPECT_LT(compareImages(r.image, all.image).relMse, 1e-10);
         }
+    }
+}
+
+// What a kernel reads must have been written this render: a field that a
+// path's move to a new slot forgets to carry (continuation_slot) is read from
+// whatever the other region held. Every device buffer starting as 0xFF bytes
+// (WAVEVCM_POISON_BUFFERS: NaN floats, -1 ints) instead of the device's
+// zeros must then give the same image and rays. A dropped carry of pathFlags,
+// which RoundsTest's other tests and the cross-algorithm ones miss, fails it.
+TEST(Rounds, ImageDoesNotDependOnWhatBuffersHeldBefore)
+{
+    Scene scene = loadGltf(test::cornellBoxPath());
+    Bvh bvh = buildBvh(scene.vertices);
+    DeviceContext device(test::devicesUnderTest()[0]);
+    for (Algorithm a : {Algorithm::PathTracing, Algorithm::LightTracing, Algorithm::Bidirectional,
+                        Algorithm::ProgressivePhotonMapping, Algorithm::BidirectionalPhotonMapping,
+                        Algorithm::VertexConnectionMerging}) {
+        SCOPED_TRACE(algorithmName(a));
+        Rendered clean = renderWith(device, scene, bvh, a, 0);
+        ::setenv("WAVEVCM_POISON_BUFFERS", "1", 1);
+        Rendered poisoned = renderWith(device, scene, bvh, a, 0);
+        ::unsetenv("WAVEVCM_POISON_BUFFERS");
+        EXPECT_EQ(poisoned.rays, clean.rays);
+        EXPECT_LT(compareImages(poisoned.image, clean.image).relMse, 1e-10);
     }
 }
 

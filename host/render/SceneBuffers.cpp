@@ -71,11 +71,24 @@ static void fillWithHugePages(DeviceContext& device, const cl::Buffer& buffer, c
     unmapped.wait();
 }
 
+// WAVEVCM_POISON_BUFFERS=1: every buffer deviceBuffer makes starts as 0xFF
+// bytes (NaN floats, -1 ints) instead of whatever the device left there, so
+// that a kernel reading state that nothing wrote first (a field a path's move
+// to a new slot forgot to carry) changes the image (RoundsTest).
+static bool poisonBuffers()
+{
+    const char* env = std::getenv("WAVEVCM_POISON_BUFFERS");
+    return env && std::string(env) == "1";
+}
+
 cl::Buffer deviceBuffer(DeviceContext& device, size_t bytes, const std::string& what)
 {
     checkAllocation(device, bytes, what);
+    size_t size = std::max<size_t>(bytes, 16);
     try {
-        return cl::Buffer(device.context, CL_MEM_READ_WRITE, std::max<size_t>(bytes, 16));
+        cl::Buffer buffer(device.context, CL_MEM_READ_WRITE, size);
+        if (poisonBuffers()) device.queue.enqueueFillBuffer(buffer, cl_uchar(0xFF), 0, size);
+        return buffer;
     } catch (const cl::Error& e) {
         throw Error("cannot allocate " + what + " (" + megabytes(bytes) + ") on " + device.info.name + ": " +
                     clErrorName(e.err()));
