@@ -73,7 +73,6 @@ INLINE int continuation_slot(const RenderBuffers* b, const LaunchParams* params,
     b->pathPixel[next] = b->pathPixel[slot];
 #ifdef BIDIRECTIONAL
     b->pathFlags[next] = b->pathFlags[slot];
-    b->pathLastVertex[next] = b->pathLastVertex[slot];
 #endif
     return next;
 }
