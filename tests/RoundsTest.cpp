@@ -25,10 +25,11 @@ struct Rendered {
 };
 
 Rendered renderWith(DeviceContext& device, const Scene& scene, const Bvh& bvh, Algorithm algorithm, int roundsAhead,
-                    int wavefront = 256)
+                    int wavefront = 256, VertexConnections connections = VertexConnections::Default)
 {
     RenderSettings s;
     s.algorithm = algorithm;
+    s.vertexConnections = connections;
     s.width = s.height = 32;
     s.seed = 3;
     s.wavefront = wavefront;
@@ -74,10 +75,10 @@ TEST(Rounds, EnqueuedAheadGiveTheImageAndRaysOfWaitingForEach)
 // A path's state moves to a new slot every round (kernels/transport/
 // path_state.h: slot i of the other region for hit-queue entry i, new paths
 // after the hits' places), and what its shade kernel does not rewrite is
-// carried along (continuation_slot). How many paths share a wavefront
-// changes which slots they take: with all 1024 paths at once, or 256 or 192
-// of them in rounds that start new paths as others end, the image must be
-// the same up to the order of float adds, and so must the rays (new paths
+// carried along (store_continuation and its callers). How many paths share a
+// wavefront changes which slots they take: with all 1024 paths at once, or 256
+// or 192 of them in rounds that start new paths as others end, the image must
+// be the same up to the order of float adds, and so must the rays (new paths
 // put at the continuing ones' places instead: relMSE 0.002-0.2).
 TEST(Rounds, ImageDoesNotDependOnTheWavefront)
 {
@@ -97,12 +98,17 @@ TEST(Rounds, ImageDoesNotDependOnTheWavefront)
     }
 }
 
-// What a kernel reads must have been written this render: a field that a
-// path's move to a new slot forgets to carry (continuation_slot) is read from
-// whatever the other region held. Every device buffer starting as 0xFF bytes
-// (WAVEVCM_POISON_BUFFERS: NaN floats, -1 ints) instead of the device's
-// zeros must then give the same image and rays. A dropped carry of pathFlags,
-// which RoundsTest's other tests and the cross-algorithm ones miss, fails it.
+// What a kernel reads must have been written this render: a field that a path's
+// move to a new slot forgets to carry (store_continuation, the shade kernels)
+// is read from whatever the other region held. Every device buffer starting as
+// 0x00 bytes or as 0xFF bytes (WAVEVCM_POISON_BUFFERS; NaN floats, -1 ints)
+// must then give the same image and rays. (Not against buffers left as
+// allocated: small ones come back from the heap holding an earlier render's
+// state, this test's other fill included.) Both ways of vertex connection:
+// the queued one reserves its entries by the light path's count of stored
+// vertices (in pathFlags). Dropped, the carry of pathFlags fails it (camera
+// paths under ppm; light paths with queued connections), which RoundsTest's
+// other tests and the cross-algorithm ones miss.
 TEST(Rounds, ImageDoesNotDependOnWhatBuffersHeldBefore)
 {
     Scene scene = loadGltf(test::cornellBoxPath());
@@ -111,13 +117,18 @@ TEST(Rounds, ImageDoesNotDependOnWhatBuffersHeldBefore)
     for (Algorithm a : {Algorithm::PathTracing, Algorithm::LightTracing, Algorithm::Bidirectional,
                         Algorithm::ProgressivePhotonMapping, Algorithm::BidirectionalPhotonMapping,
                         Algorithm::VertexConnectionMerging}) {
-        SCOPED_TRACE(algorithmName(a));
-        Rendered clean = renderWith(device, scene, bvh, a, 0);
-        ::setenv("WAVEVCM_POISON_BUFFERS", "1", 1);
-        Rendered poisoned = renderWith(device, scene, bvh, a, 0);
-        ::unsetenv("WAVEVCM_POISON_BUFFERS");
-        EXPECT_EQ(poisoned.rays, clean.rays);
-        EXPECT_LT(compareImages(poisoned.image, clean.image).relMse, 1e-10);
+        bool connecting = a == Algorithm::Bidirectional || a == Algorithm::VertexConnectionMerging;
+        for (VertexConnections c : {VertexConnections::Inline, VertexConnections::Queued}) {
+            if (c == VertexConnections::Queued && !connecting) continue;
+            SCOPED_TRACE(algorithmName(a) + (c == VertexConnections::Queued ? " queued" : ""));
+            ::setenv("WAVEVCM_POISON_BUFFERS", "0x00", 1);
+            Rendered zeros = renderWith(device, scene, bvh, a, 0, 256, c);
+            ::setenv("WAVEVCM_POISON_BUFFERS", "0xff", 1);
+            Rendered ones = renderWith(device, scene, bvh, a, 0, 256, c);
+            ::unsetenv("WAVEVCM_POISON_BUFFERS");
+            EXPECT_EQ(ones.rays, zeros.rays);
+            EXPECT_LT(compareImages(ones.image, zeros.image).relMse, 1e-10);
+        }
     }
 }
 

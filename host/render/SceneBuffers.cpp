@@ -71,14 +71,20 @@ static void fillWithHugePages(DeviceContext& device, const cl::Buffer& buffer, c
     unmapped.wait();
 }
 
-// WAVEVCM_POISON_BUFFERS=1: every buffer deviceBuffer makes starts as 0xFF
-// bytes (NaN floats, -1 ints) instead of whatever the device left there, so
-// that a kernel reading state that nothing wrote first (a field a path's move
-// to a new slot forgot to carry) changes the image (RoundsTest).
-static bool poisonBuffers()
+// WAVEVCM_POISON_BUFFERS=BYTE (0-255, or 0x00-0xff): every buffer
+// deviceBuffer makes starts as that byte repeated instead of whatever the
+// device left there, so that a kernel reading state that nothing wrote first
+// (a field a path's move to a new slot forgot to carry) gives another image
+// under another byte (RoundsTest). -1 when unset.
+static int poisonByte()
 {
     const char* env = std::getenv("WAVEVCM_POISON_BUFFERS");
-    return env && std::string(env) == "1";
+    if (!env || !*env) return -1;
+    char* end = nullptr;
+    long byte = std::strtol(env, &end, 0);
+    if (*end != '\0' || byte < 0 || byte > 255)
+        throw Error(std::string("WAVEVCM_POISON_BUFFERS is \"") + env + "\"; it takes a byte, 0-255 or 0x00-0xff");
+    return int(byte);
 }
 
 cl::Buffer deviceBuffer(DeviceContext& device, size_t bytes, const std::string& what)
@@ -87,7 +93,7 @@ cl::Buffer deviceBuffer(DeviceContext& device, size_t bytes, const std::string& 
     size_t size = std::max<size_t>(bytes, 16);
     try {
         cl::Buffer buffer(device.context, CL_MEM_READ_WRITE, size);
-        if (poisonBuffers()) device.queue.enqueueFillBuffer(buffer, cl_uchar(0xFF), 0, size);
+        if (int byte = poisonByte(); byte >= 0) device.queue.enqueueFillBuffer(buffer, cl_uchar(byte), 0, size);
         return buffer;
     } catch (const cl::Error& e) {
         throw Error("cannot allocate " + what + " (" + megabytes(bytes) + ") on " + device.info.name + ": " +

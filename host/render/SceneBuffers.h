@@ -58,7 +58,7 @@ const Bvh& bvhFor(const std::vector<Bvh>& trees, const DeviceInfo& device);
 cl::Buffer uploadBuffer(DeviceContext& device, const void* data, size_t bytes, const std::string& what);
 
 // A device buffer of `bytes` bytes, checked against the device's limits. Its
-// contents are undefined (with WAVEVCM_POISON_BUFFERS=1, all 0xFF bytes).
+// contents are undefined (with WAVEVCM_POISON_BUFFERS=BYTE, that byte repeated).
 cl::Buffer deviceBuffer(DeviceContext& device, size_t bytes, const std::string& what);
 
 } // namespace wv
