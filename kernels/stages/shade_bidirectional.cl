@@ -119,8 +119,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
         alive = next >= 0;
         if (alive) {
             store_mis(b->pathMis, next, mis);
-            if (!s.delta)
-                b->pathFlags[next] = 0;
+            b->pathFlags[next] = s.delta ? b->pathFlags[slot] : 0; /* PATH_SPECULAR while all scattering is */
         }
     }
     r.alive = alive ? 1 : 0;

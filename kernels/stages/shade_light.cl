@@ -159,7 +159,8 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     int next = store_continuation(b, params, slot, &hit, s.wi, beta, 0.0f, depth, rejected);
     if (next < 0)
         return r;
-#ifdef VERTEX_CONNECTION /* the path's list of vertices goes with it (camera paths have none) */
+    b->pathFlags[next] = b->pathFlags[slot];
+#ifdef VERTEX_CONNECTION /* the path's list of stored vertices goes with it */
     b->pathLastVertex[next] = b->pathLastVertex[slot];
 #endif
     store_mis(b->pathMis, next, mis);

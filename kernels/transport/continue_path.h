@@ -65,29 +65,20 @@ INLINE bool continue_bidirectional(const Bsdf* bsdf, const SurfaceHit* hit, vec3
     return true;
 }
 
-/* Where path `slot` continues (next_round_slot, path_state.h), with what the
- * path keeps unchanged carried there. */
-INLINE int continuation_slot(const RenderBuffers* b, const LaunchParams* params, int slot)
-{
-    int next = next_round_slot(params);
-    b->pathPixel[next] = b->pathPixel[slot];
-#ifdef BIDIRECTIONAL
-    b->pathFlags[next] = b->pathFlags[slot];
-#endif
-    return next;
-}
-
 /* The next segment of path `slot`: from `hit` along wi, with throughput beta
  * (w: pt's η² scale, else 0) and depth `depth` for the vertex it leaves.
- * Returns the slot it is stored in (continuation_slot), where the caller
- * stores the rest of what changed; -1, and nothing stored, when beta is zero
- * or rejected by the NaN policy (counted in *rejected): the path ends. */
+ * Returns the slot it continues in (next_round_slot, path_state.h), with its
+ * sample carried there; the caller stores there the rest of what the path
+ * keeps (its MIS quantities, its flags, a light path's last vertex).
+ * -1, and nothing stored, when beta is zero or rejected by the NaN policy
+ * (counted in *rejected): the path ends. */
 INLINE int store_continuation(const RenderBuffers* b, const LaunchParams* params, int slot, const SurfaceHit* hit,
                               vec3 wi, vec3 beta, float w, int depth, int* rejected)
 {
     if (!accept_finite(beta, rejected) || !(max_component(beta) > 0.0f))
         return -1;
-    int next = continuation_slot(b, params, slot);
+    int next = next_round_slot(params);
+    b->pathPixel[next] = b->pathPixel[slot];
     store_ray(b->rayOrigins, b->rayDirections, next, spawn_ray(hit->p, hit->pError, hit->ngF, wi));
     store_vec3w(b->pathThroughput, next, beta, w);
     b->pathDepth[next] = depth;
