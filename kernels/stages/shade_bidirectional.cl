@@ -119,7 +119,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
         alive = next >= 0;
         if (alive) {
             store_mis(b->pathMis, next, mis);
-            b->pathFlags[next] = s.delta ? b->pathFlags[slot] : 0; /* PATH_SPECULAR while all scattering is */
+            b->pathFlags[next] = s.delta ? b->pathFlags[slot] : 0; /* PATH_SPECULAR until a non-delta scatter */
         }
     }
     r.alive = alive ? 1 : 0;

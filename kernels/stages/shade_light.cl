@@ -159,8 +159,11 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     int next = store_continuation(b, params, slot, &hit, s.wi, beta, 0.0f, depth, rejected);
     if (next < 0)
         return r;
+    /* What the light path keeps: its flags (among them its count of stored
+     * vertices, by which queued connections reserve their entries) and, for
+     * connections, the last vertex of its list. */
     b->pathFlags[next] = b->pathFlags[slot];
-#ifdef VERTEX_CONNECTION /* the path's list of stored vertices goes with it */
+#ifdef VERTEX_CONNECTION
     b->pathLastVertex[next] = b->pathLastVertex[slot];
 #endif
     store_mis(b->pathMis, next, mis);
