@@ -87,9 +87,11 @@ def main():
         # Each variant's program built (and cached) outside the timing, on the
         # pipelines a timed render uses: under 4 iterations a render takes one.
         for name, env in variants:
-            subprocess.run([wavevcm, "render", args.scene, "-a", args.algorithm, "-n", "4", "-q", "-o",
-                            os.path.join(out, name + ".exr")] + shlex.split(args.extra),
-                           env=dict(os.environ, **env), check=True)
+            warm = subprocess.run([wavevcm, "render", args.scene, "-a", args.algorithm, "-n", "4", "-q", "-o",
+                                   os.path.join(out, name + ".exr")] + shlex.split(args.extra),
+                                  env=dict(os.environ, **env))
+            if warm.returncode != 0:
+                sys.exit(f"compare_variants: variant {name} failed (its error above)")
         rounds = []
         for p in range(args.pairs):
             results = {}
