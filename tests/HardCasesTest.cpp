@@ -1,5 +1,5 @@
 // The scenes of scenes/hard/ (scripts/make_hard_scenes.py), which stress
-// numerical robustness: every algorithm on every device stays finite, scale
+// numerical robustness: every algorithm stays finite (on every device: pt and vcm), scale
 // and distance from the origin leave the image unchanged, a closed box lets
 // no light in, and merge radii far from the scene's scale stay finite.
 #include "TestDevices.h"
@@ -51,12 +51,19 @@ void expectFinite(const test::Render& r)
     EXPECT_EQ(bad, 0u) << "non-finite or negative pixels reached the image";
 }
 
-TEST(HardCases, EveryAlgorithmStaysFiniteOnEveryDevice)
+TEST(HardCases, EveryAlgorithmStaysFinite)
 {
     for (const char* name : kHardScenes) {
         Scene scene = hardScene(name);
         for (const DeviceInfo& device : test::devicesUnderTest())
             for (Algorithm a : kAlgorithms) {
+                // Other devices: pt and vcm, whose program has every technique
+                // of the others. rusticl compiles each scene's own programs:
+                // with empty caches the test took 156 s with all six, 100 s
+                // with these two (PoCL alone: 2 s).
+                if (!test::isFirstDevice(device) && a != Algorithm::PathTracing &&
+                    a != Algorithm::VertexConnectionMerging)
+                    continue;
                 SCOPED_TRACE(std::string(name) + ", " + algorithmName(a) + ", " + device.name);
                 expectFinite(test::render(device, scene, a, 24, 24, 2, 7));
             }
