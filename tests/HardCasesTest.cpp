@@ -1,7 +1,8 @@
 // The scenes of scenes/hard/ (scripts/make_hard_scenes.py), which stress
-// numerical robustness: every algorithm stays finite (on every device: pt and vcm), scale
-// and distance from the origin leave the image unchanged, a closed box lets
-// no light in, and merge radii far from the scene's scale stay finite.
+// numerical robustness: every algorithm stays finite (pt and vcm on every
+// device), scale and distance from the origin leave the image unchanged, a
+// closed box lets no light in, and merge radii far from the scene's scale
+// stay finite.
 #include "TestDevices.h"
 #include "TestRendering.h"
 #include "scene/GltfLoader.h"
