@@ -8,6 +8,7 @@
 // libclc-15 and ptxas are installed; skipped, saying why, elsewhere. Writes
 // registers, stack and spills per kernel to gpu-resources.md in the working
 // directory (the README's table).
+#include "TestDevices.h"
 #include "cl/Program.h"
 #include "render/Renderer.h"
 
@@ -95,12 +96,7 @@ TEST(GpuCompile, EveryProgramAssemblesForSm90)
         GTEST_SKIP() << "needs clang-15, libclc-15 (" << libclc << ") and the CUDA toolkit's ptxas; found clang '"
                      << clang << "', ptxas '" << ptxas << "'";
 
-    SceneFeatures all;
-    all.vertexNormals = true;
-    all.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_DELTA_REFLECTION |
-                LOBE_DELTA_TRANSMISSION;
-    all.pointLights = all.spotLights = all.directionalLights = all.emissiveTriangles = all.background = true;
-    all.environmentMap = all.textures = all.normalMaps = all.alphaTest = all.emissiveTextures = all.texCoord1 = true;
+    SceneFeatures all = test::everyFeature();
 
     fs::path dir = fs::temp_directory_path() / ("wavevcm-ptx-" + std::to_string(getpid()));
     fs::create_directories(dir);

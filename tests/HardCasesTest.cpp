@@ -79,6 +79,8 @@ TEST(HardCases, EveryAlgorithmStaysFinite)
 // changes whole blocks by far more. pt on every device, and vcm (which also
 // merges, with a radius relative to the scene's size; 1e5 units out it
 // failed before far scenes were moved to the origin on loading).
+// far-from-origin.gltf on the first device only: the loader, on the host,
+// moves it back, so the devices see the unit box again.
 TEST(HardCases, ScaleAndDistanceFromTheOriginLeaveTheImageUnchanged)
 {
     const int size = 32, iterations = 16, seeds = 4;
@@ -89,6 +91,8 @@ TEST(HardCases, ScaleAndDistanceFromTheOriginLeaveTheImageUnchanged)
                 continue; // vcm on the first device only: rusticl takes ~40 s for it
             std::vector<Image> reference = test::renderSeeds(device, unit, a, size, size, iterations, seeds);
             for (const char* name : {"scale-tiny", "scale-huge", "far-from-origin"}) {
+                if (std::string(name) == "far-from-origin" && !test::isFirstDevice(device))
+                    continue;
                 SCOPED_TRACE(std::string(name) + ", " + algorithmName(a) + ", " + device.name);
                 std::vector<Image> moved = test::renderSeeds(device, hardScene(name), a, size, size, iterations, seeds);
                 EXPECT_EQ(test::tilesDisagreeing(moved, reference, 8, 5.0), 0);
@@ -110,7 +114,10 @@ TEST(HardCases, ScaleAndDistanceFromTheOriginLeaveTheImageUnchanged)
 // air of the Cornell box leaves the image unchanged (same block test; light
 // through it is carried by specular paths instead of shadow rays, noisier
 // but unbiased). A Fresnel term or a 1/η² that did not vanish at η = 1, or
-// MIS that mishandled the delta transmission, would show.
+// MIS that mishandled the delta transmission, would show. On the first
+// device only: the glass code's agreement across devices is
+// PathTracer.SameImageOnEveryDevice's (the Cornell box's glass sphere), and
+// rusticl took 24 of this test's 29 s.
 TEST(HardCases, GlassOfIndexOneIsInvisible)
 {
     const int size = 32, iterations = 16, seeds = 6;
@@ -124,15 +131,13 @@ TEST(HardCases, GlassOfIndexOneIsInvisible)
         Vec3 n = normalize(cross(t[1] - t[0], t[2] - t[0]));
         for (int k = 0; k < 3; ++k) withSphere.normals.push_back(n);
     }
-    for (const DeviceInfo& device : test::devicesUnderTest())
-        for (Algorithm a : {Algorithm::PathTracing, Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}) {
-            if (a != Algorithm::PathTracing && !test::isFirstDevice(device))
-                continue; // bpt and vcm on the first device only, for time
-            SCOPED_TRACE(algorithmName(a) + ", " + device.name);
-            std::vector<Image> reference = test::renderSeeds(device, plain, a, size, size, iterations, seeds);
-            std::vector<Image> glass = test::renderSeeds(device, withSphere, a, size, size, iterations, seeds);
-            EXPECT_EQ(test::tilesDisagreeing(glass, reference, 8, 5.0), 0);
-        }
+    DeviceInfo device = test::devicesUnderTest()[0];
+    for (Algorithm a : {Algorithm::PathTracing, Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}) {
+        SCOPED_TRACE(algorithmName(a));
+        std::vector<Image> reference = test::renderSeeds(device, plain, a, size, size, iterations, seeds);
+        std::vector<Image> glass = test::renderSeeds(device, withSphere, a, size, size, iterations, seeds);
+        EXPECT_EQ(test::tilesDisagreeing(glass, reference, 8, 5.0), 0);
+    }
 }
 
 // The camera sits inside a closed box of shared-edge triangles; an area

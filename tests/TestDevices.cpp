@@ -40,4 +40,15 @@ Scene sceneFromTriangles(std::vector<Vec3> vertices)
 
 std::string cornellBoxPath() { return std::string(WAVEVCM_SOURCE_DIR) + "/scenes/cornell-box.gltf"; }
 
+SceneFeatures everyFeature()
+{
+    SceneFeatures all;
+    all.vertexNormals = true;
+    all.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_DELTA_REFLECTION |
+                LOBE_DELTA_TRANSMISSION;
+    all.pointLights = all.spotLights = all.directionalLights = all.emissiveTriangles = all.background = true;
+    all.environmentMap = all.textures = all.normalMaps = all.alphaTest = all.emissiveTextures = all.texCoord1 = true;
+    return all;
+}
+
 } // namespace wv::test

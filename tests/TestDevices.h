@@ -33,6 +33,10 @@ Scene sceneFromTriangles(std::vector<Vec3> vertices);
 // The Cornell box from scenes/.
 std::string cornellBoxPath();
 
+// The features of a scene that uses all of them: a program built for it
+// compiles every code path of the kernels.
+SceneFeatures everyFeature();
+
 // Runs check(device, program) on every device under test with the program of
 // test kernel file `kernelFile`, under a trace naming the device.
 template <typename Check> void onEveryDevice(const std::string& kernelFile, Check check)
