@@ -15,6 +15,7 @@
 #include "TestDevices.h"
 #include "bvh/Bvh.h"
 #include "render/Renderer.h"
+#include "render/SceneBuffers.h"
 #include "scene/GltfLoader.h"
 
 #include <gtest/gtest.h>
@@ -79,12 +80,13 @@ TEST(ConnectionQueue, GivesTheImageOfTracingInline)
     for (std::string path : {test::cornellBoxPath(), std::string(WAVEVCM_SOURCE_DIR) + "/scenes/caustics.gltf"}) {
         SCOPED_TRACE(path);
         Scene scene = loadGltf(path);
-        Bvh bvh = buildBvh(scene.vertices);
         bool cornellBox = path == test::cornellBoxPath();
         for (const DeviceInfo& info : test::devicesUnderTest()) {
             if (!cornellBox && !test::isFirstDevice(info))
                 continue;
             SCOPED_TRACE(info.name);
+            // The tree this device's renders get, so that its inline program is theirs.
+            Bvh bvh = buildBvh(scene.vertices, trianglePacketWidth(info));
             for (Algorithm a : {Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}) {
                 if (a == Algorithm::Bidirectional && !test::isFirstDevice(info))
                     continue;

@@ -93,9 +93,8 @@ TEST(ProgramBuild, KernelsBuildWithoutWarnings)
         for (const DeviceInfo& info : test::devicesUnderTest()) {
             SCOPED_TRACE(info.name + " " + algorithmName(a));
             DeviceContext device(info);
-            std::string options = "-cl-std=CL1.2 -DHAS_VERTEX_NORMALS -DSCENE_LOBES=31u -DHAS_POINT_LIGHTS "
-                                  "-DHAS_DIRECTIONAL_LIGHTS -DHAS_EMISSIVE_TRIANGLES -DHAS_BACKGROUND "
-                                  "-DTRIANGLE_PACKET_WIDTH=" + std::to_string(trianglePacketWidth(info)) +
+            std::string options = "-cl-std=CL1.2" + test::everyFeature().buildOptions() +
+                                  " -DTRIANGLE_PACKET_WIDTH=" + std::to_string(trianglePacketWidth(info)) +
                                   (a == Algorithm::Bidirectional ? " -DBIDIRECTIONAL -DVERTEX_CONNECTION" : "");
             ProgramBuild build = buildProgram(device.context, info, source, options + uncached);
             ASSERT_FALSE(build.fromCache);

@@ -10,6 +10,7 @@
 #include "TestDevices.h"
 #include "bvh/Bvh.h"
 #include "render/Renderer.h"
+#include "render/SceneBuffers.h"
 #include "scene/GltfLoader.h"
 
 #include <gtest/gtest.h>
@@ -52,10 +53,11 @@ void expectSameRender(const Rendered& a, const Rendered& b)
 TEST(Rounds, EnqueuedAheadGiveTheImageAndRaysOfWaitingForEach)
 {
     Scene scene = loadGltf(test::cornellBoxPath());
-    Bvh bvh = buildBvh(scene.vertices);
     for (const DeviceInfo& info : test::devicesUnderTest()) {
         DeviceContext device(info);
         SCOPED_TRACE(info.name);
+        // The tree this device's renders get, so that its programs are theirs.
+        Bvh bvh = buildBvh(scene.vertices, trianglePacketWidth(info));
         for (Algorithm a : {Algorithm::EyeLight, Algorithm::PathTracing, Algorithm::LightTracing,
                             Algorithm::VertexConnectionMerging}) {
             // Other devices: pt and vcm, whose phases (camera paths, and

@@ -49,7 +49,8 @@ INLINE Lanes item_allocate4(__global int* counters, Lanes counter, Lanes wants)
 /* Whether a kernel pushes by a global atomic per item and no barrier, not
  * through the group: where the host set PUSH_PER_ITEM (a CPU device of one
  * compute unit, such as each of the two pipelines' sub-devices on a 2-core
- * machine, or rusticl's llvmpipe, whose barriers are coroutines) and the kernel runs its work-items one at a time (`simd` 0, a
+ * machine, or rusticl's llvmpipe, whose barriers are coroutines) and the
+ * kernel runs its work-items one at a time (`simd` 0, a
  * constant: core/simd.h; an atomic per item would keep the loop vectorizer
  * off a SIMD kernel's work-item loop). There the atomic costs less than the
  * group's barriers and the values PoCL spills across them (2-core AMD EPYC,
