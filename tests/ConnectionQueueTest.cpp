@@ -73,8 +73,8 @@ int blocksDiffering(const Image& a, const Image& b)
 // The Cornell box on every device, the caustics scene (GGX lobes, smooth
 // normals) on the first only: each queued program is a cold compile no
 // other test shares, and this test was the second longest of a CI run.
-// On the other devices vcm alone, whose program connects as bpt's does
-// (and merges too): bpt's queued program on rusticl was another ~17 s.
+// On the other devices vcm alone: bpt's program is vcm's (the same build
+// options; vcm merges by its radius), so bpt there only repeated renders.
 TEST(ConnectionQueue, GivesTheImageOfTracingInline)
 {
     for (std::string path : {test::cornellBoxPath(), std::string(WAVEVCM_SOURCE_DIR) + "/scenes/caustics.gltf"}) {
