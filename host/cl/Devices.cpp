@@ -16,6 +16,7 @@ std::string DeviceInfo::typeName() const
 }
 
 bool DeviceInfo::isPocl() const { return platformName == "Portable Computing Language"; }
+bool DeviceInfo::isRusticl() const { return platformName == "rusticl"; }
 
 std::string DeviceInfo::label() const
 {

@@ -26,6 +26,7 @@ struct DeviceInfo {
 
     std::string typeName() const; // "GPU", "CPU", ...
     bool isPocl() const;          // PoCL's platform ("Portable Computing Language")
+    bool isRusticl() const;       // Mesa's rusticl platform ("rusticl")
     std::string label() const;    // the name, and "pipeline i of n" when split
 };
 

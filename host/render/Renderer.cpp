@@ -75,7 +75,7 @@ std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeature
     // rusticl's llvmpipe, which runs a kernel with barriers as coroutines: there per-item pushes made pt and
     // vcm 1.03-1.11x as fast (128x128, three interleaved pairs each, AMD EPYC).
     bool cpu = (device.type & CL_DEVICE_TYPE_CPU) != 0;
-    bool perItem = cpu && (device.computeUnits == 1 || device.platformName == "rusticl");
+    bool perItem = cpu && (device.computeUnits == 1 || device.isRusticl());
     return std::string(simdCamera ? " -DSIMD_CAMERA_SHADING=1" : "") + (simdLight ? " -DSIMD_LIGHT_SHADING=1" : "") +
            (perItem ? " -DPUSH_PER_ITEM" : "") + llvmOptionsKey();
 }
