@@ -120,6 +120,24 @@ public:
         return addAccessor(addView(indices.data(), indices.size() * sizeof(T)), type, "SCALAR", indices.size());
     }
 
+    // Makes accessor `accessor` sparse: its elements at `indices` (T: the
+    // index type) replaced by `values`, each array in a bufferView of its own.
+    template <class T, class V>
+    void makeSparse(int accessor, const std::vector<T>& indices, const std::vector<V>& values)
+    {
+        int type = sizeof(T) == 1 ? kUnsignedByte : sizeof(T) == 2 ? kUnsignedShort : kUnsignedInt;
+        j["accessors"][accessor]["sparse"] = {
+            {"count", indices.size()},
+            {"indices", {{"bufferView", addView(indices.data(), indices.size() * sizeof(T))}, {"componentType", type}}},
+            {"values", {{"bufferView", addView(values.data(), values.size() * sizeof(V))}}}};
+    }
+
+    // An accessor of `count` VEC3 floats without a bufferView (zeros until made sparse).
+    int addZeroVec3s(size_t count)
+    {
+        return push("accessors", {{"componentType", kFloat}, {"type", "VEC3"}, {"count", count}});
+    }
+
     // A mesh of the given primitives (see primitive()).
     int addMesh(std::vector<json> primitives) { return push("meshes", {{"primitives", primitives}}); }
 
@@ -873,6 +891,109 @@ TEST_F(GltfLoader, QuantizedPositionsAndNormals)
     GltfBuilder d = oneTriangle();
     d.j["accessors"][0]["componentType"] = kUnsignedInt;
     expectLoadError(d.writeGltf(dir_, "quantized32"), "8- or 16-bit integers");
+}
+
+// A sparse accessor is its bufferView's elements, or zeros without one, with
+// the elements at its indices replaced by its values: for vertex attributes
+// and for indices alike.
+TEST_F(GltfLoader, SparseAccessorsReplaceTheElementsTheyIndex)
+{
+    GltfBuilder b;
+    int pos = b.addVec3s({{0, 0, 0}, {1, 0, 0}, {5, 5, 5}});
+    b.makeSparse(pos, std::vector<uint16_t>{2}, std::vector<Vec3>{{0, 1, 0}});
+    b.addNode({{"mesh", b.addMesh({primitive(pos)})}});
+    Scene s = load(b, "sparse-view");
+    ASSERT_EQ(s.vertices.size(), 3u);
+    for (size_t k = 0; k < 3; ++k) EXPECT_TRUE(near(s.vertices[k], kTriangle[k])) << k;
+
+    GltfBuilder c;
+    int zeros = c.addZeroVec3s(3);
+    c.makeSparse(zeros, std::vector<uint8_t>{1, 2}, std::vector<Vec3>{{1, 0, 0}, {0, 1, 0}});
+    int idx = c.addIndices(std::vector<uint32_t>{0, 1, 1});
+    c.makeSparse(idx, std::vector<uint32_t>{2}, std::vector<uint32_t>{2});
+    c.addNode({{"mesh", c.addMesh({primitive(zeros, -1, idx)})}});
+    Scene t = load(c, "sparse-zeros");
+    ASSERT_EQ(t.vertices.size(), 3u);
+    for (size_t k = 0; k < 3; ++k) EXPECT_TRUE(near(t.vertices[k], kTriangle[k])) << k;
+}
+
+TEST_F(GltfLoader, MalformedSparseAccessorsThrow)
+{
+    auto sparseTriangle = [&](const std::vector<uint16_t>& indices, const std::vector<Vec3>& values) {
+        GltfBuilder b;
+        int pos = b.addVec3s(kTriangle);
+        b.makeSparse(pos, indices, values);
+        b.addNode({{"mesh", b.addMesh({primitive(pos)})}});
+        return b;
+    };
+    GltfBuilder b = sparseTriangle({3}, {{0, 0, 0}});
+    expectLoadError(b.writeGltf(dir_, "past"), "sparse index 3 out of range");
+    b = sparseTriangle({2, 1}, {{0, 0, 0}, {0, 0, 0}});
+    expectLoadError(b.writeGltf(dir_, "order"), "not strictly increasing");
+    b = sparseTriangle({1, 2}, {{0, 0, 0}});
+    b.j["accessors"][0]["sparse"]["values"]["bufferView"] = b.j["accessors"][0]["sparse"]["indices"]["bufferView"];
+    expectLoadError(b.writeGltf(dir_, "short"), "sparse values need");
+    b = sparseTriangle({1}, {{0, 0, 0}});
+    b.j["accessors"][0]["sparse"]["count"] = 4;
+    expectLoadError(b.writeGltf(dir_, "count"), "sparse count 4");
+    b = sparseTriangle({1}, {{0, 0, 0}});
+    b.j["accessors"][0]["sparse"]["indices"]["componentType"] = kFloat;
+    expectLoadError(b.writeGltf(dir_, "type"), "sparse indices must be");
+    GltfBuilder c;
+    int huge = c.addZeroVec3s(size_t(1) << 30);
+    c.makeSparse(huge, std::vector<uint16_t>{0}, std::vector<Vec3>{{0, 0, 0}});
+    c.addNode({{"mesh", c.addMesh({primitive(huge)})}});
+    expectLoadError(c.writeGltf(dir_, "huge"), "without a bufferView");
+}
+
+// Morph targets are applied at the node's weights, else the mesh's (the pose
+// a viewer shows without animation), to positions and normals; a target may
+// be sparse, and a mesh without weights keeps its base geometry.
+TEST_F(GltfLoader, MorphTargetsAtTheNodesOrTheMeshsWeights)
+{
+    auto morphed = [&](const json& meshWeights, const json& nodeWeights) {
+        GltfBuilder b;
+        int pos = b.addVec3s(kTriangle);
+        int nrm = b.addVec3s({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+        int lift = b.addVec3s({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+        int tilt = b.addVec3s({{0, 1, -1}, {0, 1, -1}, {0, 1, -1}});
+        int stretch = b.addZeroVec3s(3); // only vertex 2 moves: (0, 1, 0)
+        b.makeSparse(stretch, std::vector<uint8_t>{2}, std::vector<Vec3>{{0, 1, 0}});
+        json prim = primitive(pos, nrm);
+        prim["targets"] = {{{"POSITION", lift}, {"NORMAL", tilt}}, {{"POSITION", stretch}}};
+        json mesh = {{"primitives", {prim}}};
+        if (!meshWeights.is_null()) mesh["weights"] = meshWeights;
+        json node = {{"mesh", b.push("meshes", mesh)}};
+        if (!nodeWeights.is_null()) node["weights"] = nodeWeights;
+        b.addNode(node);
+        return load(b, "morph");
+    };
+    Scene base = morphed(nullptr, nullptr);
+    ASSERT_EQ(base.vertices.size(), 3u);
+    for (size_t k = 0; k < 3; ++k) EXPECT_TRUE(near(base.vertices[k], kTriangle[k])) << k;
+
+    Scene mesh = morphed(json{0.5, 0}, nullptr); // lift by 0.5, normal (0, 0.5, 0.5) normalized
+    ASSERT_EQ(mesh.vertices.size(), 3u);
+    for (size_t k = 0; k < 3; ++k) {
+        EXPECT_TRUE(near(mesh.vertices[k], kTriangle[k] + Vec3(0, 0, 0.5f))) << k;
+        EXPECT_TRUE(near(mesh.normals.at(k), {0, float(kHalfSqrt2), float(kHalfSqrt2)})) << k;
+    }
+
+    Scene node = morphed(json{0.5, 0}, json{1, 2}); // the node's weights win
+    ASSERT_EQ(node.vertices.size(), 3u);
+    EXPECT_TRUE(near(node.vertices[0], {0, 0, 1}));
+    EXPECT_TRUE(near(node.vertices[1], {1, 0, 1}));
+    EXPECT_TRUE(near(node.vertices[2], {0, 3, 1}));
+    for (size_t k = 0; k < 3; ++k) EXPECT_TRUE(near(node.normals.at(k), {0, 1, 0})) << k;
+
+    Scene fewer = morphed(json{1}, nullptr); // a missing weight is 0, with a warning
+    EXPECT_TRUE(near(fewer.vertices[2], {0, 1, 1}));
+    EXPECT_TRUE(anyWarningContains(fewer, "2 morph targets and 1 weights"));
+
+    GltfBuilder b = oneTriangle();
+    b.j["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", 0}}};
+    b.j["meshes"][0]["weights"] = {1e39}; // a double, but no float
+    expectLoadError(b.writeGltf(dir_, "overflow"), "is not a finite float");
 }
 
 // A 4 × 2 map beside the glTF file, as extras.environment names it: read with

@@ -120,7 +120,7 @@ private:
     Material convertMaterial(const tinygltf::Material& m, int index);
     void visitNodes();
     void chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed);
-    void addMesh(int meshIndex, const Mat4& world, const std::string& nodeName);
+    void addMesh(int meshIndex, const Mat4& world, const std::string& nodeName, const std::vector<double>& nodeWeights);
     void addCamera(int cameraIndex, const Mat4& world);
     void addLight(const tinygltf::Value& ext, const Mat4& world, const std::string& nodeName);
     void loadBackground();
@@ -145,8 +145,15 @@ private:
     std::vector<Vec3> readVec3(int accessorIndex, const std::string& what);
     std::vector<float> readTexCoords(int accessorIndex, const std::string& what); // u, v per element
     std::vector<uint32_t> readIndices(int accessorIndex);
+    // An accessor's elements as (data, stride): in its bufferView, or, for
+    // a sparse accessor, packed into `storage` with the substitutions made.
+    const unsigned char* accessorElements(const tinygltf::Accessor& a, size_t elementSize, size_t* stride,
+                                          std::vector<unsigned char>& storage, const std::string& what);
     const unsigned char* accessorData(const tinygltf::Accessor& a, size_t elementSize,
                                       size_t* stride, const std::string& what);
+    const tinygltf::BufferView& checkedView(int view, const std::string& what);
+    std::vector<Vec3> morphDisplacement(const tinygltf::Primitive& prim, const std::vector<double>& weights,
+                                        const char* semantic, size_t count, const std::string& what);
 
     std::string path_;
     Scene& scene_;
@@ -583,7 +590,7 @@ void Loader::visitNodes()
         const tinygltf::Node& node = model_.nodes[index];
         for (int k = 0; k < 3; ++k) world[12 + k] -= scene_.origin[k]; // translate(-origin) · world
         std::string nodeName = "node " + std::to_string(index) + (node.name.empty() ? "" : " '" + node.name + "'");
-        if (node.mesh >= 0) addMesh(node.mesh, world, nodeName);
+        if (node.mesh >= 0) addMesh(node.mesh, world, nodeName, node.weights);
         if (node.camera >= 0) addCamera(node.camera, world);
         if (const tinygltf::Value* e = extension(node.extensions, "KHR_lights_punctual"))
             addLight(*e, world, nodeName);
@@ -608,9 +615,9 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
         }
     };
     // Each POSITION accessor's own bounds (from its values, not its
-    // min/max, which may be wrong), once; every instance then adds the
-    // corners of that box, transformed: a bound of the scene, enough to
-    // pick a centre.
+    // min/max, which may be wrong; without morph targets), once; every
+    // instance then adds the corners of that box, transformed: a bound of
+    // the scene, enough to pick a centre.
     std::map<int, Bounds> localBounds;
     for (const auto& [index, world] : placed) {
         int meshIndex = model_.nodes[index].mesh;
@@ -649,24 +656,83 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
     for (int k = 0; k < 3; ++k) scene_.origin[k] = centre[k];
 }
 
+// Buffer view `index`, checked to lie within its buffer.
+const tinygltf::BufferView& Loader::checkedView(int index, const std::string& what)
+{
+    if (index < 0 || size_t(index) >= model_.bufferViews.size()) fail(what + ": accessor has no valid bufferView");
+    const tinygltf::BufferView& view = model_.bufferViews[size_t(index)];
+    if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size())
+        fail(what + ": bufferView " + std::to_string(index) + " has no valid buffer");
+    const tinygltf::Buffer& buffer = model_.buffers[size_t(view.buffer)];
+    // Everything in size_t, with overflow-proof comparisons.
+    if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset)
+        fail(what + ": bufferView " + std::to_string(index) + " extends past the end of buffer " +
+             std::to_string(view.buffer) + " (" + std::to_string(view.byteOffset + view.byteLength) + " > " +
+             std::to_string(buffer.data.size()) + " bytes)");
+    return view;
+}
+
+// A sparse accessor (glTF 2.0 §3.6.2.3) is its bufferView's elements, or
+// zeros where it has none, with the elements at `sparse.indices` (strictly
+// increasing) replaced by `sparse.values` in order; morph targets use them
+// to store only the vertices that move.
+const unsigned char* Loader::accessorElements(const tinygltf::Accessor& a, size_t elementSize, size_t* stride,
+                                              std::vector<unsigned char>& storage, const std::string& what)
+{
+    if (!a.sparse.isSparse) return accessorData(a, elementSize, stride, what);
+    // Without a bufferView nothing in the file bounds the count: a limit
+    // keeps a malformed file from asking for gigabytes of zeros.
+    constexpr size_t kMaxZeroFilled = size_t(1) << 24;
+    if (a.bufferView < 0 && a.count > kMaxZeroFilled)
+        fail(what + ": sparse accessor of " + std::to_string(a.count) + " elements without a bufferView (at most " +
+             std::to_string(kMaxZeroFilled) + ")");
+    size_t baseStride = 0;
+    const unsigned char* base = a.bufferView >= 0 ? accessorData(a, elementSize, &baseStride, what) : nullptr;
+    storage.assign(a.count * elementSize, 0);
+    for (size_t i = 0; base && i < a.count; ++i) std::memcpy(&storage[i * elementSize], base + i * baseStride, elementSize);
+    const auto& sparse = a.sparse;
+    if (sparse.count < 1 || size_t(sparse.count) > a.count)
+        fail(what + ": sparse count " + std::to_string(sparse.count) + " is not between 1 and the accessor's count " +
+             std::to_string(a.count));
+    size_t indexSize = sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                       : sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                       : sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                                                : 0;
+    if (indexSize == 0) fail(what + ": sparse indices must be unsigned bytes, shorts or ints");
+    // The two arrays are tightly packed, from their byteOffsets in their views.
+    auto packed = [&](int viewIndex, int byteOffset, size_t bytes, const char* name) {
+        const tinygltf::BufferView& view = checkedView(viewIndex, what + ": sparse " + name);
+        if (byteOffset < 0 || size_t(byteOffset) > view.byteLength || bytes > view.byteLength - size_t(byteOffset))
+            fail(what + ": sparse " + name + " need " + std::to_string(bytes) + " bytes from offset " +
+                 std::to_string(byteOffset) + " but bufferView " + std::to_string(viewIndex) + " has " +
+                 std::to_string(view.byteLength));
+        return model_.buffers[size_t(view.buffer)].data.data() + view.byteOffset + size_t(byteOffset);
+    };
+    size_t n = size_t(sparse.count);
+    const unsigned char* indices = packed(sparse.indices.bufferView, sparse.indices.byteOffset, n * indexSize, "indices");
+    const unsigned char* values = packed(sparse.values.bufferView, sparse.values.byteOffset, n * elementSize, "values");
+    uint32_t previous = 0;
+    for (size_t k = 0; k < n; ++k) {
+        uint32_t i = 0;
+        std::memcpy(&i, indices + k * indexSize, indexSize); // little-endian, as glTF and every host we build for
+        if (i >= a.count)
+            fail(what + ": sparse index " + std::to_string(i) + " out of range (" + std::to_string(a.count) +
+                 " elements)");
+        if (k > 0 && i <= previous) fail(what + ": sparse indices are not strictly increasing");
+        previous = i;
+        std::memcpy(&storage[size_t(i) * elementSize], values + k * elementSize, elementSize);
+    }
+    *stride = elementSize;
+    return storage.data();
+}
+
 const unsigned char* Loader::accessorData(const tinygltf::Accessor& a, size_t elementSize,
                                           size_t* stride, const std::string& what)
 {
-    if (a.sparse.isSparse) fail(what + ": sparse accessors are not supported");
-    if (a.bufferView < 0 || size_t(a.bufferView) >= model_.bufferViews.size())
-        fail(what + ": accessor has no valid bufferView");
-    const tinygltf::BufferView& view = model_.bufferViews[a.bufferView];
-    if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size())
-        fail(what + ": bufferView " + std::to_string(a.bufferView) + " has no valid buffer");
-    const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
+    const tinygltf::BufferView& view = checkedView(a.bufferView, what);
+    const tinygltf::Buffer& buffer = model_.buffers[size_t(view.buffer)];
     *stride = view.byteStride ? view.byteStride : elementSize;
     if (*stride < elementSize) fail(what + ": byteStride smaller than the element");
-    // Everything in size_t, with overflow-proof comparisons.
-    size_t viewEnd = view.byteOffset + view.byteLength;
-    if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset)
-        fail(what + ": bufferView " + std::to_string(a.bufferView) + " extends past the end of buffer " +
-             std::to_string(view.buffer) + " (" + std::to_string(viewEnd) + " > " +
-             std::to_string(buffer.data.size()) + " bytes)");
     if (a.count == 0) return buffer.data.data() + view.byteOffset;
     size_t need = a.byteOffset;
     if (a.count - 1 > (SIZE_MAX - need - elementSize) / *stride) fail(what + ": accessor size overflows");
@@ -744,7 +810,8 @@ std::vector<float> Loader::readFloats(int accessorIndex, int components, const s
     default: fail(what + ": " + name + " components must be floats, or 8- or 16-bit integers (KHR_mesh_quantization)");
     }
     size_t stride;
-    const unsigned char* data = accessorData(a, size_t(components) * size, &stride, what);
+    std::vector<unsigned char> storage;
+    const unsigned char* data = accessorElements(a, size_t(components) * size, &stride, storage, what);
     auto component = [&](const unsigned char* p) -> float {
         switch (a.componentType) {
         case TINYGLTF_COMPONENT_TYPE_FLOAT: {
@@ -803,7 +870,8 @@ std::vector<uint32_t> Loader::readIndices(int accessorIndex)
                                                                               : 0;
     if (a.type != TINYGLTF_TYPE_SCALAR || size == 0) fail("indices: expected unsigned scalars");
     size_t stride;
-    const unsigned char* data = accessorData(a, size, &stride, what);
+    std::vector<unsigned char> storage;
+    const unsigned char* data = accessorElements(a, size, &stride, storage, what);
     std::vector<uint32_t> out(a.count);
     for (size_t i = 0; i < a.count; ++i) {
         const unsigned char* p = data + i * stride;
@@ -854,11 +922,35 @@ static std::vector<uint32_t> triangulate(int mode, const std::vector<uint32_t>& 
     return out;
 }
 
-void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeName)
+// Σ_t w_t · (target t's displacements of `semantic`): a primitive's morph
+// targets at the given weights (glTF 2.0 §3.7.2.2), or nothing where no
+// target of non-zero weight moves that attribute.
+std::vector<Vec3> Loader::morphDisplacement(const tinygltf::Primitive& prim, const std::vector<double>& weights,
+                                            const char* semantic, size_t count, const std::string& what)
+{
+    std::vector<Vec3> sum;
+    for (size_t t = 0; t < prim.targets.size() && t < weights.size(); ++t) {
+        auto it = prim.targets[t].find(semantic);
+        if (weights[t] == 0 || it == prim.targets[t].end()) continue;
+        std::string name = what + " morph target " + std::to_string(t) + " " + semantic;
+        std::vector<Vec3> d = readVec3(it->second, name);
+        if (d.size() != count) fail(name + ": its count differs from POSITION's");
+        sum.resize(count, Vec3(0, 0, 0));
+        for (size_t i = 0; i < count; ++i) sum[i] = sum[i] + d[i] * float(weights[t]);
+    }
+    return sum;
+}
+
+void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeName, const std::vector<double>& nodeWeights)
 {
     if (size_t(meshIndex) >= model_.meshes.size())
         fail(nodeName + ": mesh index " + std::to_string(meshIndex) + " out of range");
     const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
+    // The pose a viewer shows without animation: the node's morph weights,
+    // else the mesh's defaults, else none.
+    const std::vector<double>& weights = nodeWeights.empty() ? mesh.weights : nodeWeights;
+    for (double w : weights)
+        if (!std::isfinite(float(w))) fail(nodeName + ": morph target weight " + std::to_string(w) + " is not a finite float");
     double det = determinant3(world);
     if (det == 0.0) {
         warn(nodeName + ": zero-scale transform; its mesh is skipped");
@@ -881,11 +973,20 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             skippedModes_.insert(modeNames[mode]);
             continue;
         }
-        if (!prim.targets.empty()) warnOnce("morph targets are not supported; base geometry is used");
+        if (!prim.targets.empty() && !weights.empty() && weights.size() != prim.targets.size())
+            warnOnce(what + " has " + std::to_string(prim.targets.size()) + " morph targets and " +
+                     std::to_string(weights.size()) + " weights; a missing weight is 0");
         decodeDracoPrimitive(meshIndex, int(p), what);
+        bool draco = dracoTriangles_.count({meshIndex, int(p)}) != 0;
+        // Draco may reorder the vertices, which uncompressed targets then no longer match.
+        std::vector<double> morph = draco ? std::vector<double>() : weights;
+        if (draco && !prim.targets.empty())
+            warnOnce(what + ": morph targets of a Draco-compressed primitive are not applied");
         auto pos = prim.attributes.find("POSITION");
         if (pos == prim.attributes.end()) fail(what + ": no POSITION attribute");
         std::vector<Vec3> positions = readVec3(pos->second, what + " POSITION");
+        std::vector<Vec3> moved = morphDisplacement(prim, morph, "POSITION", positions.size(), what);
+        for (size_t i = 0; i < moved.size(); ++i) positions[i] = positions[i] + moved[i];
         for (const Vec3& v : positions)
             if (!isFinite(v)) fail(what + ": POSITION contains NaN or Inf");
         std::vector<Vec3> normals;
@@ -893,6 +994,8 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
         if (nrm != prim.attributes.end()) {
             normals = readVec3(nrm->second, what + " NORMAL");
             if (normals.size() != positions.size()) fail(what + ": NORMAL and POSITION counts differ");
+            moved = morphDisplacement(prim, morph, "NORMAL", normals.size(), what);
+            for (size_t i = 0; i < moved.size(); ++i) normals[i] = normals[i] + moved[i]; // normalized below
         }
         std::vector<float> uvSets[2]; // TEXCOORD_0 and _1, for textures
         for (int set = 0; set < 2; ++set) {
@@ -903,10 +1006,9 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             if (uvSets[set].size() != 2 * positions.size()) fail(what + ": " + name + " and POSITION counts differ");
         }
         std::vector<uint32_t> indices;
-        auto draco = dracoTriangles_.find({meshIndex, int(p)});
-        if (draco != dracoTriangles_.end()) {
+        if (draco) {
             if (!dracoFloats_.count(pos->second)) fail(what + ": POSITION is not among the Draco-compressed attributes");
-            indices = draco->second;
+            indices = dracoTriangles_[{meshIndex, int(p)}];
         } else if (prim.indices >= 0) {
             indices = readIndices(prim.indices);
         } else {
@@ -947,6 +1049,9 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             if (tan != prim.attributes.end()) { // per vertex, given out per corner
                 std::vector<float> perVertex = readFloats(tan->second, 4, what + " TANGENT");
                 if (perVertex.size() != 4 * positions.size()) fail(what + ": TANGENT and POSITION counts differ");
+                moved = morphDisplacement(prim, morph, "TANGENT", positions.size(), what); // xyz; w stays
+                for (size_t i = 0; i < moved.size(); ++i)
+                    for (int c = 0; c < 3; ++c) perVertex[4 * i + size_t(c)] += moved[i][c];
                 tangents.resize(4 * indices.size());
                 for (size_t c = 0; c < indices.size(); ++c)
                     std::copy_n(&perVertex[4 * size_t(indices[c])], 4, &tangents[4 * c]);
