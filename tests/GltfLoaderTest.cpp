@@ -996,6 +996,59 @@ TEST_F(GltfLoader, MorphTargetsAtTheNodesOrTheMeshsWeights)
     expectLoadError(b.writeGltf(dir_, "overflow"), "is not a finite float");
 }
 
+// A skinned mesh is placed by its joints, not its node: each vertex by the
+// joint matrices (joint world transform × inverse bind matrix) weighted by
+// its JOINTS_0 / WEIGHTS_0, its normal by their inverse transpose.
+TEST_F(GltfLoader, SkinsPlaceVerticesByTheirJoints)
+{
+    // Joint 0 at (0, 0, 5) turned 90° about x; joint 1 its child, 2 up.
+    auto skinned = [&](bool inverseBind, const std::vector<uint8_t>& jointIndices) {
+        GltfBuilder b;
+        int pos = b.addVec3s(kTriangle);
+        int nrm = b.addVec3s({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+        int jnt = b.addAccessor(b.addView(jointIndices.data(), jointIndices.size()), kUnsignedByte, "VEC4", 3);
+        std::vector<float> weights = {1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0};
+        int wgt = b.addAccessor(b.addView(weights.data(), weights.size() * 4), kFloat, "VEC4", 3);
+        json prim = primitive(pos, nrm);
+        prim["attributes"]["JOINTS_0"] = jnt;
+        prim["attributes"]["WEIGHTS_0"] = wgt;
+        int child = b.addNode({{"translation", {0, 2, 0}}}, false);
+        int root = b.addNode({{"translation", {0, 0, 5}}, {"rotation", {kHalfSqrt2, 0, 0, kHalfSqrt2}}, {"children", {child}}});
+        // Joint 1's bind pose 2 up (both joints then give one rigid motion), or
+        // identities (Debian's tinygltf 2.7 refuses a skin without inverseBindMatrices).
+        std::vector<float> m = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -2, 0, 1};
+        if (!inverseBind) m[29] = 0;
+        int ibm = b.addAccessor(b.addView(m.data(), m.size() * 4), kFloat, "MAT4", 2);
+        b.j["skins"] = {{{"joints", {root, child}}, {"inverseBindMatrices", ibm}}};
+        b.addNode({{"mesh", b.addMesh({prim})}, {"skin", 0}, {"translation", {100, 0, 0}}}); // ignored
+        return b;
+    };
+    GltfBuilder rigid = skinned(true, {0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0});
+    Scene s = load(rigid, "rigid");
+    ASSERT_EQ(s.vertices.size(), 3u);
+    EXPECT_TRUE(near(s.vertices[0], {0, 0, 5}));
+    EXPECT_TRUE(near(s.vertices[1], {1, 0, 5}));
+    EXPECT_TRUE(near(s.vertices[2], {0, 0, 6}));
+    for (size_t k = 0; k < 3; ++k) EXPECT_TRUE(near(s.normals.at(k), {0, -1, 0})) << k;
+
+    GltfBuilder blended = skinned(false, {0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0}); // joint 1 at (0, 0, 7)
+    Scene t = load(blended, "blended");
+    ASSERT_EQ(t.vertices.size(), 3u);
+    EXPECT_TRUE(near(t.vertices[0], {0, 0, 5}));
+    EXPECT_TRUE(near(t.vertices[1], {1, 0, 7}));
+    EXPECT_TRUE(near(t.vertices[2], {0, 0, 7})); // (0, 0, 1) + halfway between (0, 0, 5) and (0, 0, 7)
+
+    GltfBuilder far = skinned(true, {0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0});
+    expectLoadError(far.writeGltf(dir_, "joint"), "names joint 2");
+    GltfBuilder bare = skinned(true, {0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0});
+    bare.j["meshes"][0]["primitives"][0]["attributes"].erase("JOINTS_0");
+    bare.j["meshes"][0]["primitives"][0]["attributes"].erase("WEIGHTS_0");
+    expectLoadError(bare.writeGltf(dir_, "bare"), "no JOINTS_0");
+    GltfBuilder outside = skinned(true, {0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0});
+    outside.j["scenes"][0]["nodes"] = {2}; // the mesh's node only: its joints are not rendered
+    expectLoadError(outside.writeGltf(dir_, "outside"), "not in the rendered scene");
+}
+
 // A 4 × 2 map beside the glTF file, as extras.environment names it: read with
 // the scene (rows from the top, texel values kept), its strength and rotation
 // taken; a missing map, a non-linear format or a bad number is an error

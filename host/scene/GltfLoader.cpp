@@ -120,7 +120,10 @@ private:
     Material convertMaterial(const tinygltf::Material& m, int index);
     void visitNodes();
     void chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed);
-    void addMesh(int meshIndex, const Mat4& world, const std::string& nodeName, const std::vector<double>& nodeWeights);
+    void addMesh(int meshIndex, const Mat4& world, const std::string& nodeName, const tinygltf::Node& node);
+    std::vector<Mat4> skinMatrices(int skin, const std::string& nodeName);
+    std::vector<Mat4> vertexSkinMatrices(const tinygltf::Primitive& prim, const std::vector<Mat4>& joints,
+                                         size_t count, const std::string& what);
     void addCamera(int cameraIndex, const Mat4& world);
     void addLight(const tinygltf::Value& ext, const Mat4& world, const std::string& nodeName);
     void loadBackground();
@@ -141,7 +144,7 @@ private:
 
     // Reads an accessor's elements: `components` floats each (VECn), as
     // Vec3, as texture coordinates, or as indices.
-    std::vector<float> readFloats(int accessorIndex, int components, const std::string& what);
+    std::vector<float> readFloats(int accessorIndex, int components, const std::string& what, int type = 0);
     std::vector<Vec3> readVec3(int accessorIndex, const std::string& what);
     std::vector<float> readTexCoords(int accessorIndex, const std::string& what); // u, v per element
     std::vector<uint32_t> readIndices(int accessorIndex);
@@ -168,6 +171,7 @@ private:
     bool texCoord1_ = false; // some texture reads TEXCOORD_1: triangles keep that set too
     std::map<std::pair<int, int>, std::vector<uint32_t>> dracoTriangles_; // (mesh, primitive) → decoded indices
     std::map<int, std::vector<float>> dracoFloats_;                      // accessor → its decoded elements
+    std::map<int, Mat4> jointWorld_; // skins' joint nodes → their world transforms (before the origin's move)
 };
 
 bool decodeGltfImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
@@ -560,6 +564,13 @@ void Loader::visitNodes()
     // overflow the call stack, and a node reached twice (a cycle or a shared
     // child, both invalid glTF) is an error rather than an endless loop.
     std::vector<bool> visited(model_.nodes.size(), false);
+    std::set<int> joints; // of every skin: their world transforms are kept for skinMatrices
+    for (size_t k = 0; k < model_.skins.size(); ++k)
+        for (int j : model_.skins[k].joints) {
+            if (j < 0 || size_t(j) >= model_.nodes.size())
+                fail("skin " + std::to_string(k) + ": joint node " + std::to_string(j) + " out of range");
+            joints.insert(j);
+        }
     std::vector<std::pair<int, Mat4>> stack;
     std::vector<std::pair<int, Mat4>> placed; // nodes with a mesh, camera or light, and their world transforms
     for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, identity()});
@@ -581,7 +592,7 @@ void Loader::visitNodes()
             if (!std::isfinite(v)) fail("node " + std::to_string(index) + " has a non-finite transform");
         if (node.mesh >= 0 || node.camera >= 0 || extension(node.extensions, "KHR_lights_punctual"))
             placed.push_back({index, world});
-        if (node.skin >= 0) warnOnce("skins are not supported; meshes are used in their bind pose");
+        if (joints.count(index)) jointWorld_[index] = world;
         for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});
     }
 
@@ -590,7 +601,7 @@ void Loader::visitNodes()
         const tinygltf::Node& node = model_.nodes[index];
         for (int k = 0; k < 3; ++k) world[12 + k] -= scene_.origin[k]; // translate(-origin) · world
         std::string nodeName = "node " + std::to_string(index) + (node.name.empty() ? "" : " '" + node.name + "'");
-        if (node.mesh >= 0) addMesh(node.mesh, world, nodeName, node.weights);
+        if (node.mesh >= 0) addMesh(node.mesh, world, nodeName, node);
         if (node.camera >= 0) addCamera(node.camera, world);
         if (const tinygltf::Value* e = extension(node.extensions, "KHR_lights_punctual"))
             addLight(*e, world, nodeName);
@@ -789,13 +800,14 @@ void Loader::decodeDracoPrimitive(int meshIndex, int p, const std::string& what)
     dracoTriangles_[{meshIndex, p}] = std::move(mesh.indices);
 }
 
-std::vector<float> Loader::readFloats(int accessorIndex, int components, const std::string& what)
+// `type`: the accessor's tinygltf type where it is not VECn (MAT4).
+std::vector<float> Loader::readFloats(int accessorIndex, int components, const std::string& what, int type)
 {
     if (accessorIndex < 0 || size_t(accessorIndex) >= model_.accessors.size())
         fail(what + ": accessor index " + std::to_string(accessorIndex) + " out of range");
     const tinygltf::Accessor& a = model_.accessors[accessorIndex];
-    const std::string name = "VEC" + std::to_string(components);
-    if (a.type != components) fail(what + ": expected a " + name); // tinygltf's VECn is n
+    const std::string name = type == TINYGLTF_TYPE_MAT4 ? "MAT4" : "VEC" + std::to_string(components);
+    if (a.type != (type ? type : components)) fail(what + ": expected a " + name); // tinygltf's VECn is n
     auto decoded = dracoFloats_.find(accessorIndex);
     if (decoded != dracoFloats_.end()) return decoded->second;
     // Floats, or (KHR_mesh_quantization) 8- and 16-bit integers, as values
@@ -941,26 +953,94 @@ std::vector<Vec3> Loader::morphDisplacement(const tinygltf::Primitive& prim, con
     return sum;
 }
 
-void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeName, const std::vector<double>& nodeWeights)
+// Skin `skin`'s joint matrices (glTF 2.0 §3.7.3): each joint's world
+// transform (the origin's move included) times its inverse bind matrix.
+std::vector<Mat4> Loader::skinMatrices(int skin, const std::string& nodeName)
+{
+    if (skin < 0 || size_t(skin) >= model_.skins.size())
+        fail(nodeName + ": skin index " + std::to_string(skin) + " out of range");
+    const tinygltf::Skin& s = model_.skins[size_t(skin)];
+    std::string what = nodeName + ": skin " + std::to_string(skin);
+    if (s.joints.empty()) fail(what + " has no joints");
+    std::vector<float> inverseBind;
+    if (s.inverseBindMatrices >= 0) {
+        inverseBind = readFloats(s.inverseBindMatrices, 16, what + " inverseBindMatrices", TINYGLTF_TYPE_MAT4);
+        if (inverseBind.size() != 16 * s.joints.size()) fail(what + ": inverseBindMatrices and joints counts differ");
+    }
+    std::vector<Mat4> out;
+    for (size_t j = 0; j < s.joints.size(); ++j) {
+        auto world = jointWorld_.find(s.joints[j]);
+        if (world == jointWorld_.end())
+            fail(what + ": joint node " + std::to_string(s.joints[j]) + " is not in the rendered scene");
+        Mat4 joint = world->second;
+        for (int k = 0; k < 3; ++k) joint[12 + k] -= scene_.origin[k];
+        Mat4 inverse = identity();
+        if (!inverseBind.empty()) std::copy_n(&inverseBind[16 * j], 16, inverse.begin());
+        out.push_back(multiply(joint, inverse));
+        for (double v : out.back())
+            if (!std::isfinite(float(v))) fail(what + ": joint " + std::to_string(j) + " has a non-finite matrix");
+    }
+    return out;
+}
+
+// Each vertex's skinning matrix: the joint matrices weighted by its JOINTS_n
+// and WEIGHTS_n (every set the primitive has), the weights normalized to sum
+// 1. A vertex of no weight stays where the bind pose has it.
+std::vector<Mat4> Loader::vertexSkinMatrices(const tinygltf::Primitive& prim, const std::vector<Mat4>& joints,
+                                             size_t count, const std::string& what)
+{
+    std::vector<Mat4> out(count, Mat4{});
+    std::vector<double> total(count, 0.0);
+    int sets = 0;
+    for (;; ++sets) {
+        std::string j = "JOINTS_" + std::to_string(sets), w = "WEIGHTS_" + std::to_string(sets);
+        auto jointsAttribute = prim.attributes.find(j), weightsAttribute = prim.attributes.find(w);
+        if (jointsAttribute == prim.attributes.end() && weightsAttribute == prim.attributes.end()) break;
+        if (jointsAttribute == prim.attributes.end() || weightsAttribute == prim.attributes.end())
+            fail(what + ": " + j + " and " + w + " come in pairs");
+        std::vector<float> index = readFloats(jointsAttribute->second, 4, what + " " + j);
+        std::vector<float> weight = readFloats(weightsAttribute->second, 4, what + " " + w);
+        if (index.size() != 4 * count || weight.size() != 4 * count)
+            fail(what + ": " + j + " or " + w + " and POSITION counts differ");
+        for (size_t i = 0; i < 4 * count; ++i) {
+            if (!(weight[i] >= 0.0f) || !std::isfinite(weight[i])) fail(what + ": " + w + " has a negative or non-finite weight");
+            if (weight[i] == 0.0f) continue;
+            if (!(index[i] >= 0.0f && index[i] < float(joints.size())) || index[i] != std::floor(index[i]))
+                fail(what + ": " + j + " names joint " + std::to_string(index[i]) + " of " + std::to_string(joints.size()));
+            const Mat4& m = joints[size_t(index[i])];
+            for (int k = 0; k < 16; ++k) out[i / 4][size_t(k)] += double(weight[i]) * m[size_t(k)];
+            total[i / 4] += weight[i];
+        }
+    }
+    if (sets == 0) fail(what + ": its node has a skin but it has no JOINTS_0 and WEIGHTS_0");
+    Mat4 bindPose = identity();
+    for (int k = 0; k < 3; ++k) bindPose[12 + size_t(k)] = -scene_.origin[k];
+    for (size_t i = 0; i < count; ++i) {
+        if (total[i] > 0.0)
+            for (double& v : out[i]) v /= total[i];
+        else
+            out[i] = bindPose;
+    }
+    return out;
+}
+
+void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& nodeName, const tinygltf::Node& node)
 {
     if (size_t(meshIndex) >= model_.meshes.size())
         fail(nodeName + ": mesh index " + std::to_string(meshIndex) + " out of range");
     const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
     // The pose a viewer shows without animation: the node's morph weights,
     // else the mesh's defaults, else none.
-    const std::vector<double>& weights = nodeWeights.empty() ? mesh.weights : nodeWeights;
+    const std::vector<double>& weights = node.weights.empty() ? mesh.weights : node.weights;
     for (double w : weights)
         if (!std::isfinite(float(w))) fail(nodeName + ": morph target weight " + std::to_string(w) + " is not a finite float");
-    double det = determinant3(world);
-    if (det == 0.0) {
+    // A skinned mesh ignores its node's transform (glTF 2.0 §3.7.3.3): its
+    // joints place each vertex, which is then in world space already.
+    std::vector<Mat4> joints = node.skin >= 0 ? skinMatrices(node.skin, nodeName) : std::vector<Mat4>();
+    if (joints.empty() && determinant3(nodeWorld) == 0.0) {
         warn(nodeName + ": zero-scale transform; its mesh is skipped");
         return;
     }
-    // A mirroring transform turns the winding clockwise (glTF 2.0 meshes);
-    // taking the corners in reverse order keeps counter-clockwise the front,
-    // as the kernels' geometric normals assume.
-    static const int cornerOrder[2][3] = {{0, 1, 2}, {0, 2, 1}};
-    const int* corner = cornerOrder[det < 0];
     static const char* modeNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP", "TRIANGLES",
                                       "TRIANGLE_STRIP", "TRIANGLE_FAN"};
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
@@ -978,17 +1058,25 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
                      std::to_string(weights.size()) + " weights; a missing weight is 0");
         decodeDracoPrimitive(meshIndex, int(p), what);
         bool draco = dracoTriangles_.count({meshIndex, int(p)}) != 0;
-        // Draco may reorder the vertices, which uncompressed targets then no longer match.
+        // Draco may reorder the vertices, which uncompressed targets and joints then no longer match.
         std::vector<double> morph = draco ? std::vector<double>() : weights;
         if (draco && !prim.targets.empty())
             warnOnce(what + ": morph targets of a Draco-compressed primitive are not applied");
+        bool skinned = !joints.empty() && !draco;
+        if (draco && !joints.empty())
+            warnOnce(what + ": the skin of a Draco-compressed primitive is not applied; its node places it");
+        const Mat4 world = skinned ? identity() : nodeWorld;
+        // A mirroring transform turns the winding clockwise (glTF 2.0 meshes);
+        // taking the corners in reverse order keeps counter-clockwise the front,
+        // as the kernels' geometric normals assume. A skin's is its first joint's.
+        double det = skinned ? determinant3(joints[0]) : determinant3(world);
+        static const int cornerOrder[2][3] = {{0, 1, 2}, {0, 2, 1}};
+        const int* corner = cornerOrder[det < 0];
         auto pos = prim.attributes.find("POSITION");
         if (pos == prim.attributes.end()) fail(what + ": no POSITION attribute");
         std::vector<Vec3> positions = readVec3(pos->second, what + " POSITION");
         std::vector<Vec3> moved = morphDisplacement(prim, morph, "POSITION", positions.size(), what);
         for (size_t i = 0; i < moved.size(); ++i) positions[i] = positions[i] + moved[i];
-        for (const Vec3& v : positions)
-            if (!isFinite(v)) fail(what + ": POSITION contains NaN or Inf");
         std::vector<Vec3> normals;
         auto nrm = prim.attributes.find("NORMAL");
         if (nrm != prim.attributes.end()) {
@@ -997,6 +1085,13 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
             moved = morphDisplacement(prim, morph, "NORMAL", normals.size(), what);
             for (size_t i = 0; i < moved.size(); ++i) normals[i] = normals[i] + moved[i]; // normalized below
         }
+        std::vector<Mat4> skin = skinned ? vertexSkinMatrices(prim, joints, positions.size(), what) : std::vector<Mat4>();
+        for (size_t i = 0; i < skin.size(); ++i) {
+            positions[i] = transformPoint(skin[i], positions[i]);
+            if (!normals.empty()) normals[i] = transformNormal(skin[i], normals[i]);
+        }
+        for (const Vec3& v : positions)
+            if (!isFinite(v)) fail(what + ": POSITION contains NaN or Inf");
         std::vector<float> uvSets[2]; // TEXCOORD_0 and _1, for textures
         for (int set = 0; set < 2; ++set) {
             std::string name = "TEXCOORD_" + std::to_string(set);
@@ -1052,6 +1147,10 @@ void Loader::addMesh(int meshIndex, const Mat4& world, const std::string& nodeNa
                 moved = morphDisplacement(prim, morph, "TANGENT", positions.size(), what); // xyz; w stays
                 for (size_t i = 0; i < moved.size(); ++i)
                     for (int c = 0; c < 3; ++c) perVertex[4 * i + size_t(c)] += moved[i][c];
+                for (size_t i = 0; i < skin.size(); ++i) {
+                    Vec3 t = transformVector(skin[i], Vec3(perVertex[4 * i], perVertex[4 * i + 1], perVertex[4 * i + 2]));
+                    for (int c = 0; c < 3; ++c) perVertex[4 * i + size_t(c)] = t[c];
+                }
                 tangents.resize(4 * indices.size());
                 for (size_t c = 0; c < indices.size(); ++c)
                     std::copy_n(&perVertex[4 * size_t(indices[c])], 4, &tangents[4 * c]);
