@@ -1038,6 +1038,16 @@ TEST_F(GltfLoader, SkinsPlaceVerticesByTheirJoints)
     EXPECT_TRUE(near(t.vertices[1], {1, 0, 7}));
     EXPECT_TRUE(near(t.vertices[2], {0, 0, 7})); // (0, 0, 1) + halfway between (0, 0, 5) and (0, 0, 7)
 
+    // Far from the origin by its joints alone: moved there like any far scene.
+    GltfBuilder distant = skinned(true, {0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0});
+    distant.j["nodes"][1]["translation"] = {1e8, 0, 5};
+    Scene d = load(distant, "distant");
+    ASSERT_EQ(d.vertices.size(), 3u);
+    EXPECT_GT(d.origin[0], 9e7);
+    Vec3 origin(float(d.origin[0]), float(d.origin[1]), float(d.origin[2]));
+    EXPECT_TRUE(near(d.vertices[1] - d.vertices[0], {1, 0, 0})); // floats 1e8 out are 8 apart
+    EXPECT_TRUE(near(d.vertices[0] + origin, {1e8f, 0, 5}, 8.0f));
+
     GltfBuilder far = skinned(true, {0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0});
     expectLoadError(far.writeGltf(dir_, "joint"), "names joint 2");
     GltfBuilder bare = skinned(true, {0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0});

@@ -631,9 +631,16 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
     // the scene, enough to pick a centre.
     std::map<int, Bounds> localBounds;
     for (const auto& [index, world] : placed) {
-        int meshIndex = model_.nodes[index].mesh;
+        const tinygltf::Node& node = model_.nodes[index];
+        int meshIndex = node.mesh;
         if (meshIndex < 0 || size_t(meshIndex) >= model_.meshes.size()) continue; // addMesh reports it
-        if (determinant3(world) == 0) continue; // a zero-scale instance, which addMesh skips
+        // A skinned vertex is a weighted mean of its joint matrices' images,
+        // so within the bound of the box under each of them (a vertex of no
+        // weight, left in the bind pose, is not counted: the bound only
+        // picks a centre).
+        std::vector<Mat4> instances =
+            node.skin >= 0 ? skinMatrices(node.skin, "node " + std::to_string(index)) : std::vector<Mat4>{world};
+        if (node.skin < 0 && determinant3(world) == 0) continue; // a zero-scale instance, which addMesh skips
         const std::vector<tinygltf::Primitive>& primitives = model_.meshes[meshIndex].primitives;
         for (size_t p = 0; p < primitives.size(); ++p) {
             if (primitives[p].mode >= 0 && primitives[p].mode < TINYGLTF_MODE_TRIANGLES) continue; // skipped by addMesh
@@ -650,8 +657,9 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
             }
             const Bounds& box = known->second;
             if (box.empty()) continue; // no finite position
-            for (int c = 0; c < 8; ++c)
-                include(world, (c & 1 ? box.hi : box.lo).x, (c & 2 ? box.hi : box.lo).y, (c & 4 ? box.hi : box.lo).z);
+            for (const Mat4& m : instances)
+                for (int c = 0; c < 8; ++c)
+                    include(m, (c & 1 ? box.hi : box.lo).x, (c & 2 ? box.hi : box.lo).y, (c & 4 ? box.hi : box.lo).z);
         }
     }
     double centre[3], diagonal2 = 0, distance2 = 0;
