@@ -25,6 +25,10 @@ SceneFeatures Scene::features() const
             if (materials[m].emissiveTexture > 0) f.emissiveTextures = true;
         }
         if (materials[m].alphaMode != ALPHA_OPAQUE) f.alphaTest = true;
+        const Material& mat = materials[m];
+        if (!mat.thinWalled && mat.attenuationDistance > 0 && (mat.lobes & (LOBE_GGX_TRANSMISSION | LOBE_DELTA_TRANSMISSION)) &&
+            std::min({mat.attenuationColor[0], mat.attenuationColor[1], mat.attenuationColor[2]}) < 1)
+            f.volumeAbsorption = true;
     }
     for (const Light& l : lights) {
         f.pointLights |= l.type == LIGHT_POINT;
@@ -74,6 +78,7 @@ std::string SceneFeatures::buildOptions() const
     if (alphaTest) o += " -DHAS_ALPHA_TEST";
     if (emissiveTextures) o += " -DHAS_EMISSIVE_TEXTURES";
     if (texCoord1) o += " -DHAS_TEXCOORD1";
+    if (volumeAbsorption) o += " -DHAS_VOLUME_ABSORPTION";
     return o;
 }
 

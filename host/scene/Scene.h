@@ -70,6 +70,7 @@ struct SceneFeatures {
     bool alphaTest = false;      // some material's alphaMode is MASK or BLEND: rays test alpha
     bool emissiveTextures = false; // some emitting triangle's material has an emissive texture
     bool texCoord1 = false;      // some texture reads TEXCOORD_1 (Scene::uvs1)
+    bool volumeAbsorption = false; // some refracting solid absorbs (KHR_materials_volume attenuation)
 
     std::string buildOptions() const;
 };

@@ -24,6 +24,7 @@
 #include "geometry/surface.h"
 #include "lights/lights.h"
 #include "materials/surface_bsdf.h"
+#include "materials/volume.h"
 #include "transport/camera_vertex.h"
 #include "transport/merge_query.h"
 #include "transport/mis.h"
@@ -72,6 +73,10 @@ INLINE bool connect_to_light_vertex(const RenderBuffers* b, const LaunchParams* 
                                     lightFwd * mis_cos(cv->hit.ngF, d) / dist2, lightRev, cameraRev,
                                     params->vmWeightFactor);
     *c = v3_mul(v3_mul(v3_mul(v3_scale(beta, w * geometry), fCamera), fLight), load3(lv->throughput));
+#ifdef HAS_VOLUME_ABSORPTION
+    /* From the light vertex back to the camera vertex: inside its solid? */
+    *c = v3_mul(*c, segment_absorption(&b->materials[b->triMaterials[lv->triangle]], &lightHit, v3_neg(d), dist));
+#endif
     if (!accept_finite(*c, rejected))
         return false;
     *shadow = ray_between(cv->hit.p, cv->hit.pError, cv->hit.ngF, lightHit.p, lightHit.pError, lightHit.ngF);

@@ -20,6 +20,7 @@
 #include "materials/bsdf.h"
 #include "materials/emission.h"
 #include "materials/surface_bsdf.h"
+#include "materials/volume.h"
 #include "transport/continue_path.h"
 #include "transport/path_state.h"
 
@@ -74,6 +75,10 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
                 vec3 f = bsdf_eval(&bsdf, woL, wiL, false, &pdfBsdf, &pdfRev);
                 float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, pdfBsdf);
                 vec3 contribution = v3_mul(v3_mul(beta, f), v3_scale(ls.radiance, fabs(wiL.z) * (w / ls.pdf)));
+#ifdef HAS_VOLUME_ABSORPTION
+                contribution = v3_mul(contribution, segment_absorption(&b->materials[b->triMaterials[tri]], &hit,
+                                                                       ls.direction, ls.distance));
+#endif
                 if (max_component(f) > 0.0f && accept_finite(contribution, rejected)) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,
                               shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));

@@ -22,6 +22,7 @@
 #include "materials/bsdf.h"
 #include "materials/emission.h"
 #include "materials/surface_bsdf.h"
+#include "materials/volume.h"
 #include "transport/continue_path.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
@@ -97,6 +98,10 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
                 float w = mis_weight_nee(mis, bsdfDirPdfW, bsdfRevPdfW, ls.directPdfW, ls.emissionPdfW,
                                          mis_cos(hit.ngF, ls.direction), ls.cosAtLight, params->vmWeightFactor);
                 vec3 contribution = v3_mul(v3_mul(beta, f), v3_scale(ls.radiance, w * cosToLight / ls.pdf));
+#ifdef HAS_VOLUME_ABSORPTION
+                contribution = v3_mul(contribution, segment_absorption(&b->materials[b->triMaterials[tri]], &hit,
+                                                                       ls.direction, ls.distance));
+#endif
                 if (max_component(f) > 0.0f && accept_finite(contribution, rejected)) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,
                               shadow_ray_to_light(hit.p, hit.pError, hit.ngF, &ls));

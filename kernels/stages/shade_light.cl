@@ -24,6 +24,7 @@
 #include "lights/lights.h"
 #include "materials/bsdf.h"
 #include "materials/surface_bsdf.h"
+#include "materials/volume.h"
 #include "transport/continue_path.h"
 #include "transport/mis.h"
 #include "transport/path_state.h"
@@ -139,6 +140,10 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
                                                params->lightTracePaths, pdfRev * cont, params->vmWeightFactor);
 #endif
                 vec3 contribution = v3_scale(v3_mul(beta, f), w * (importance / params->lightTracePaths));
+#ifdef HAS_VOLUME_ABSORPTION
+                contribution = v3_mul(contribution, segment_absorption(&b->materials[b->triMaterials[tri]], &hit,
+                                                                       toCamera, sqrt(dist2)));
+#endif
                 if (accept_finite(contribution, rejected) && max_component(contribution) > 0.0f) {
                     store_ray(b->shadowOrigins, b->shadowDirections, slot,
                               ray_between(hit.p, hit.pError, hit.ngF, cameraPosition, v3s(0.0f), v3_neg(toCamera)));
