@@ -6,9 +6,9 @@
  * a closed mesh); solids are taken not to nest or overlap. Every segment
  * type applies it — extended rays (extend.cl), next-event shadow rays,
  * vertex connections and connections to the camera — so that every
- * technique sampling a path carries the same factor and the MIS weights, ratios of
- * densities, need none. Compiled in only where a scene's material absorbs
- * (HAS_VOLUME_ABSORPTION). */
+ * technique sampling a path carries the same factor and the MIS weights,
+ * ratios of densities, need none. Compiled in only where a scene's material
+ * absorbs (HAS_VOLUME_ABSORPTION). */
 #ifndef WAVEVCM_VOLUME_H
 #define WAVEVCM_VOLUME_H
 
