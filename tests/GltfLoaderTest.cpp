@@ -996,6 +996,41 @@ TEST_F(GltfLoader, MorphTargetsAtTheNodesOrTheMeshsWeights)
     expectLoadError(b.writeGltf(dir_, "overflow"), "is not a finite float");
 }
 
+// COLOR_0 is read per vertex (normalized unsigned bytes as c / 255, floats as
+// they are) and given out per triangle corner; once a primitive has colours,
+// the triangles of those without are white; a VEC2 is an error.
+TEST_F(GltfLoader, VertexColorsArePerCorner)
+{
+    GltfBuilder b;
+    int pos = b.addVec3s(kTriangle);
+    std::vector<uint8_t> rgba = {255, 0, 0, 255, 0, 51, 0, 255, 0, 0, 255, 255};
+    int col = b.addAccessor(b.addView(rgba.data(), rgba.size()), kUnsignedByte, "VEC4", 3);
+    b.j["accessors"][col]["normalized"] = true;
+    json coloured = primitive(pos);
+    coloured["attributes"]["COLOR_0"] = col;
+    int other = b.addVec3s({{0, 0, 1}, {1, 0, 1}, {0, 1, 1}});
+    std::vector<float> rgb = {0.5f, 0.25f, 0.125f, 0.5f, 0.25f, 0.125f, 0.5f, 0.25f, 0.125f};
+    int floats = b.addAccessor(b.addView(rgb.data(), rgb.size() * 4), kFloat, "VEC3", 3);
+    json colouredToo = primitive(other);
+    colouredToo["attributes"]["COLOR_0"] = floats;
+    b.addNode({{"mesh", b.addMesh({primitive(pos), coloured, colouredToo})}});
+    Scene s = load(b, "colours");
+    ASSERT_EQ(s.vertices.size(), 9u);
+    ASSERT_EQ(s.colors.size(), 9u);
+    EXPECT_NE(s.features().buildOptions().find("-DHAS_VERTEX_COLORS"), std::string::npos);
+    for (size_t k = 0; k < 3; ++k) EXPECT_TRUE(near(s.colors[k], {1, 1, 1})) << k; // the first, uncoloured
+    EXPECT_TRUE(near(s.colors[3], {1, 0, 0}));
+    EXPECT_TRUE(near(s.colors[4], {0, 0.2f, 0}));
+    EXPECT_TRUE(near(s.colors[5], {0, 0, 1}));
+    for (size_t k = 6; k < 9; ++k) EXPECT_TRUE(near(s.colors[k], {0.5f, 0.25f, 0.125f})) << k;
+
+    GltfBuilder c = oneTriangle();
+    std::vector<float> uv = {0, 0, 1, 0, 0, 1};
+    c.j["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] =
+        c.addAccessor(c.addView(uv.data(), uv.size() * 4), kFloat, "VEC2", 3);
+    expectLoadError(c.writeGltf(dir_, "vec2"), "COLOR_0 must be a VEC3 or a VEC4");
+}
+
 // A skinned mesh is placed by its joints, not its node: each vertex by the
 // joint matrices (joint world transform × inverse bind matrix) weighted by
 // its JOINTS_0 / WEIGHTS_0, its normal by their inverse transpose.

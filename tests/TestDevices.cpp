@@ -48,7 +48,7 @@ SceneFeatures everyFeature()
                 LOBE_DELTA_TRANSMISSION;
     all.pointLights = all.spotLights = all.directionalLights = all.emissiveTriangles = all.background = true;
     all.environmentMap = all.textures = all.normalMaps = all.alphaTest = all.emissiveTextures = all.texCoord1 = true;
-    all.volumeAbsorption = true;
+    all.volumeAbsorption = all.vertexColors = true;
     return all;
 }
 

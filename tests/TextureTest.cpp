@@ -366,5 +366,36 @@ TEST_F(Textures, SecondTexCoordSetIsRead)
     expectCornersShow(r.image, size, block, s.textures[0], L, {1, 0, 3, 2}); // TEXCOORD_0 would show 0, 1, 2, 3
 }
 
+// Vertex colours (COLOR_0) multiply the base colour, interpolated over each
+// triangle: corners coloured ((1 − x) / 2, (1 + x) / 2, 0.5) by their x make
+// a colour linear in x, which the interpolation reproduces exactly, so each
+// corner block of the Lambert quad shows that colour at its mean x (±0.75)
+// times L. With the colours ignored, every block would be white × L.
+TEST_F(Textures, VertexColorsScaleTheBaseColor)
+{
+    Scene s = loadGltf(writeQuadWith("colours", {{"metallicFactor", 0.0}}, json::object(), false));
+    ASSERT_TRUE(s.colors.empty());
+    for (const Vec3& v : s.vertices) s.colors.push_back({(1 - v.x) / 2, (1 + v.x) / 2, 0.5f});
+    EXPECT_NE(s.features().buildOptions().find("-DHAS_VERTEX_COLORS"), std::string::npos);
+    const float L = 0.8f;
+    s.background = {L, L, L};
+    const int size = 32, block = 8;
+    DeviceInfo device = test::devicesUnderTest()[0];
+    for (Algorithm a : {Algorithm::PathTracing, Algorithm::VertexConnectionMerging}) {
+        SCOPED_TRACE(algorithmName(a));
+        test::Render r = test::render(device, s, a, size, size, 32, 5);
+        EXPECT_EQ(r.nonFinite, 0u);
+        for (int corner = 0; corner < 4; ++corner) {
+            int x0 = (corner % 2) * (size - block), y0 = (corner / 2) * (size - block);
+            float x = corner % 2 ? 0.75f : -0.75f;
+            const float expected[3] = {(1 - x) / 2, (1 + x) / 2, 0.5f};
+            for (int c = 0; c < 3; ++c) {
+                double se, mean = blockMean(r.image, size, x0, y0, block, c, &se);
+                EXPECT_NEAR(mean, L * expected[c], 5 * se + 1e-4) << "corner " << corner << " channel " << c;
+            }
+        }
+    }
+}
+
 } // namespace
 } // namespace wv

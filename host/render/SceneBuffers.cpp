@@ -157,6 +157,7 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     std::vector<float> uvs(scene.uvs.empty() ? 2 : 6 * count, 0.0f); // BVH order, like the vertices
     std::vector<float> uvs1(scene.uvs1.empty() ? 2 : 6 * count, 0.0f);
     std::vector<std::array<float, 4>> tangents(scene.tangents.empty() ? 1 : 3 * count);
+    std::vector<std::array<float, 4>> colors(scene.colors.empty() ? 1 : 3 * count);
     for (size_t i = 0; i < count; ++i) {
         uint32_t t = bvh.triangleOrder[i];
         triMaterial[i] = scene.triangleMaterial[t];
@@ -166,6 +167,10 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
             for (int k = 0; k < 6; ++k) uvs1[6 * i + size_t(k)] = scene.uvs1[6 * size_t(t) + size_t(k)];
         if (!scene.tangents.empty())
             for (int k = 0; k < 3; ++k) tangents[3 * i + size_t(k)] = scene.tangents[3 * size_t(t) + size_t(k)];
+        for (int k = 0; k < 3 && !scene.colors.empty(); ++k) {
+            const Vec3& c = scene.colors[3 * size_t(t) + size_t(k)];
+            colors[3 * i + size_t(k)] = {c.x, c.y, c.z, 1.0f};
+        }
         for (int k = 0; k < 3; ++k) {
             const Vec3& v = scene.vertices[3 * t + k];
             vertices[3 * i + k] = {v.x, v.y, v.z, 0.0f};
@@ -221,6 +226,7 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
     triUVs = upload(uvs, "the texture coordinates");
     triUVs1 = upload(uvs1, "the second texture coordinates");
     triTangents = upload(tangents, "the tangents");
+    triColors = upload(colors, "the vertex colours");
     const EnvironmentLight& env = lightTable.environment;
     auto nonEmpty = [](std::vector<float> v, size_t n) { // OpenCL buffers cannot be empty
         if (v.empty()) v.assign(n, 0.0f);
@@ -250,6 +256,7 @@ void SceneBuffers::bind(KernelBuffers& b) const
     b.triUVs = triUVs;
     b.triUVs1 = triUVs1;
     b.triTangents = triTangents;
+    b.triColors = triColors;
     b.envRadiance = envRadiance;
     b.envMarginalCdf = envMarginalCdf;
     b.envConditionalCdf = envConditionalCdf;

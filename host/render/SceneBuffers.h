@@ -25,6 +25,7 @@ struct SceneBuffers {
     cl::Buffer textures;         // TextureInfo[] (1 element without textures)
     cl::Buffer triUVs;           // float2[3 · triangles] with textures, BVH order (else 1)
     cl::Buffer triUVs1;          // the same for TEXCOORD_1 when a texture reads it (else 1)
+    cl::Buffer triColors;        // COLOR_0 per corner (float4, BVH order) with vertex colours (else 1)
     cl::Buffer triTangents;      // float4[3 · triangles] with normal maps, BVH order (else 1)
     cl::Buffer envRadiance;      // float4 per environment-map texel (1 element without a map)
     cl::Buffer envMarginalCdf;   // float[height + 1]

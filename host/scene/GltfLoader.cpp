@@ -1108,6 +1108,27 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
             uvSets[set] = readTexCoords(uv->second, what + " " + name);
             if (uvSets[set].size() != 2 * positions.size()) fail(what + ": " + name + " and POSITION counts differ");
         }
+        // COLOR_0 (VEC3 or VEC4 of floats, or of normalized unsigned bytes or
+        // shorts): linear RGB that multiplies the base colour. Its alpha,
+        // which glTF multiplies into the base colour's, is not read.
+        std::vector<Vec3> colors;
+        auto col = prim.attributes.find("COLOR_0");
+        if (col != prim.attributes.end() && draco) {
+            warnOnce(what + ": COLOR_0 of a Draco-compressed primitive is not read");
+        } else if (col != prim.attributes.end()) {
+            if (col->second < 0 || size_t(col->second) >= model_.accessors.size())
+                fail(what + ": COLOR_0 accessor index " + std::to_string(col->second) + " out of range");
+            int n = model_.accessors[size_t(col->second)].type; // tinygltf's VECn is n
+            if (n != 3 && n != 4) fail(what + ": COLOR_0 must be a VEC3 or a VEC4");
+            std::vector<float> f = readFloats(col->second, n, what + " COLOR_0");
+            if (f.size() != size_t(n) * positions.size()) fail(what + ": COLOR_0 and POSITION counts differ");
+            for (size_t i = 0; i < positions.size(); ++i) {
+                Vec3 c(f[size_t(n) * i], f[size_t(n) * i + 1], f[size_t(n) * i + 2]);
+                if (!isFinite(c) || std::min({c.x, c.y, c.z}) < 0.0f) fail(what + ": COLOR_0 has a negative or non-finite value");
+                colors.push_back(c);
+                if (n == 4 && f[size_t(n) * i + 3] < 1.0f) warnOnce(what + ": COLOR_0's alpha is not applied");
+            }
+        }
         std::vector<uint32_t> indices;
         if (draco) {
             if (!dracoFloats_.count(pos->second)) fail(what + ": POSITION is not among the Draco-compressed attributes");
@@ -1177,6 +1198,10 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
             }
         }
         bool wantNormals = !normals.empty() || hadNormals;
+        // Colours likewise: white for the triangles of primitives without COLOR_0.
+        bool hadColors = !scene_.colors.empty();
+        if (!colors.empty() && !hadColors) scene_.colors.assign(scene_.vertices.size(), Vec3(1, 1, 1));
+        bool wantColors = !colors.empty() || hadColors;
         // Tangents exist for every triangle (zero where no normal map reads them) once any material has a normal map.
         bool wantTangents = normalMaps_;
         float handedness = det < 0 ? -1.0f : 1.0f; // a mirroring transform turns the bitangent around
@@ -1184,6 +1209,8 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
             Vec3 v[3];
             for (int k = 0; k < 3; ++k) v[k] = transformPoint(world, positions[indices[i + corner[k]]]);
             for (int k = 0; k < 3; ++k) scene_.vertices.push_back(v[k]);
+            for (int k = 0; wantColors && k < 3; ++k)
+                scene_.colors.push_back(colors.empty() ? Vec3(1, 1, 1) : colors[indices[i + corner[k]]]);
             scene_.triangleMaterial.push_back(material);
             for (int set = 0; set < 2; ++set) // (0, 0) where missing; dropped unless a texture reads them
                 for (int k = 0; k < 3; ++k)

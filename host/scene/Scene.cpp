@@ -40,6 +40,7 @@ SceneFeatures Scene::features() const
     f.textures = !textures.empty();
     f.normalMaps = !tangents.empty();
     f.texCoord1 = !uvs1.empty();
+    f.vertexColors = !colors.empty();
     f.background = f.environmentMap || background.x > 0 || background.y > 0 || background.z > 0;
     return f;
 }
@@ -79,6 +80,7 @@ std::string SceneFeatures::buildOptions() const
     if (emissiveTextures) o += " -DHAS_EMISSIVE_TEXTURES";
     if (texCoord1) o += " -DHAS_TEXCOORD1";
     if (volumeAbsorption) o += " -DHAS_VOLUME_ABSORPTION";
+    if (vertexColors) o += " -DHAS_VERTEX_COLORS";
     return o;
 }
 

@@ -71,6 +71,7 @@ struct SceneFeatures {
     bool emissiveTextures = false; // some emitting triangle's material has an emissive texture
     bool texCoord1 = false;      // some texture reads TEXCOORD_1 (Scene::uvs1)
     bool volumeAbsorption = false; // some refracting solid absorbs (KHR_materials_volume attenuation)
+    bool vertexColors = false;   // some primitive has COLOR_0 (Scene::colors)
 
     std::string buildOptions() const;
 };
@@ -100,6 +101,9 @@ struct Scene {
     std::vector<float> uvs;
     // TEXCOORD_1 likewise, when some texture reads that set, else empty.
     std::vector<float> uvs1;
+    // COLOR_0 (linear RGB, multiplying the base colour) of every triangle's
+    // corners when some primitive has it (white for the others), else empty.
+    std::vector<Vec3> colors;
     // Tangent frames of every triangle's corners for normal maps (three per
     // triangle: x, y, z along +u, handedness w = ±1, the bitangent being
     // cross(n, t)·w), zero where the material has none; empty when no

@@ -36,6 +36,7 @@ namespace wv {
     X(__global, TextureInfo, textures, 0)    /* where each texture's texels start */                       \
     X(__global, float2, triUVs, 0)           /* TEXCOORD_0 per triangle corner, with textures, else 1 */   \
     X(__global, float2, triUVs1, 0)          /* TEXCOORD_1 per triangle corner if a texture reads it, else 1 */ \
+    X(__global, float4, triColors, 0)        /* COLOR_0 per triangle corner with vertex colours, else 1 */ \
     X(__global, float4, triTangents, 0)      /* tangent, handedness per corner, with normal maps, else 1 */ \
     X(__global, float4, envRadiance, 0)      /* environment map texels (lights/environment.h), else 1 */   \
     X(__global, float, envMarginalCdf, 0)    /* over its rows, height + 1 entries */                       \

@@ -103,12 +103,19 @@ INLINE float scene_texture_alpha(const RenderBuffers* b, int index, int tri, vec
 }
 
 /* What material m is on triangle `tri` at barycentrics `bary`: its factors
- * times its textures there — the base-colour texture's RGB, the
+ * times its vertex colours and textures there — the base-colour texture's RGB, the
  * metallic-roughness texture's B (metallic) and G (roughness), the
  * transmission texture's R. */
 INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const Material* m, int tri, vec2 bary)
 {
     SurfaceMaterial s = material_factors(m);
+#ifdef HAS_VERTEX_COLORS
+    /* COLOR_0, interpolated over the triangle, multiplies the base colour. */
+    vec3 c0 = load_vec3(b->triColors, 3 * tri), c1 = load_vec3(b->triColors, 3 * tri + 1),
+         c2 = load_vec3(b->triColors, 3 * tri + 2);
+    vec3 color = v3_add(v3_scale(c0, 1.0f - bary.x - bary.y), v3_add(v3_scale(c1, bary.x), v3_scale(c2, bary.y)));
+    s.baseColor = v3_mul(s.baseColor, color);
+#endif
 #ifdef HAS_TEXTURES
     if (m->baseColorTexture > 0)
         s.baseColor = v3_mul(s.baseColor, scene_texture(b, m->baseColorTexture, tri, bary));
