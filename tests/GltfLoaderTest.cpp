@@ -997,13 +997,14 @@ TEST_F(GltfLoader, MorphTargetsAtTheNodesOrTheMeshsWeights)
 }
 
 // COLOR_0 is read per vertex (normalized unsigned bytes as c / 255, floats as
-// they are) and given out per triangle corner; once a primitive has colours,
-// the triangles of those without are white; a VEC2 is an error.
+// they are; a VEC3's alpha 1) and given out per triangle corner; once a
+// primitive has colours, the triangles of those without are opaque white; a
+// VEC2 is an error.
 TEST_F(GltfLoader, VertexColorsArePerCorner)
 {
     GltfBuilder b;
     int pos = b.addVec3s(kTriangle);
-    std::vector<uint8_t> rgba = {255, 0, 0, 255, 0, 51, 0, 255, 0, 0, 255, 255};
+    std::vector<uint8_t> rgba = {255, 0, 0, 255, 0, 51, 0, 255, 0, 0, 255, 102};
     int col = b.addAccessor(b.addView(rgba.data(), rgba.size()), kUnsignedByte, "VEC4", 3);
     b.j["accessors"][col]["normalized"] = true;
     json coloured = primitive(pos);
@@ -1018,11 +1019,15 @@ TEST_F(GltfLoader, VertexColorsArePerCorner)
     ASSERT_EQ(s.vertices.size(), 9u);
     ASSERT_EQ(s.colors.size(), 9u);
     EXPECT_NE(s.features().buildOptions().find("-DHAS_VERTEX_COLORS"), std::string::npos);
-    for (size_t k = 0; k < 3; ++k) EXPECT_TRUE(near(s.colors[k], {1, 1, 1})) << k; // the first, uncoloured
-    EXPECT_TRUE(near(s.colors[3], {1, 0, 0}));
-    EXPECT_TRUE(near(s.colors[4], {0, 0.2f, 0}));
-    EXPECT_TRUE(near(s.colors[5], {0, 0, 1}));
-    for (size_t k = 6; k < 9; ++k) EXPECT_TRUE(near(s.colors[k], {0.5f, 0.25f, 0.125f})) << k;
+    auto colour = [&](size_t k) {
+        const std::array<float, 4>& c = s.colors[k];
+        return std::vector<float>(c.begin(), c.end());
+    };
+    for (size_t k = 0; k < 3; ++k) EXPECT_EQ(colour(k), std::vector<float>({1, 1, 1, 1})) << k; // the first, uncoloured
+    EXPECT_EQ(colour(3), std::vector<float>({1, 0, 0, 1}));
+    EXPECT_EQ(colour(4), std::vector<float>({0, 0.2f, 0, 1}));
+    EXPECT_EQ(colour(5), std::vector<float>({0, 0, 1, 0.4f}));
+    for (size_t k = 6; k < 9; ++k) EXPECT_EQ(colour(k), std::vector<float>({0.5f, 0.25f, 0.125f, 1})) << k;
 
     GltfBuilder c = oneTriangle();
     std::vector<float> uv = {0, 0, 1, 0, 0, 1};

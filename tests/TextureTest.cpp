@@ -375,7 +375,7 @@ TEST_F(Textures, VertexColorsScaleTheBaseColor)
 {
     Scene s = loadGltf(writeQuadWith("colours", {{"metallicFactor", 0.0}}, json::object(), false));
     ASSERT_TRUE(s.colors.empty());
-    for (const Vec3& v : s.vertices) s.colors.push_back({(1 - v.x) / 2, (1 + v.x) / 2, 0.5f});
+    for (const Vec3& v : s.vertices) s.colors.push_back({(1 - v.x) / 2, (1 + v.x) / 2, 0.5f, 1});
     EXPECT_NE(s.features().buildOptions().find("-DHAS_VERTEX_COLORS"), std::string::npos);
     const float L = 0.8f;
     s.background = {L, L, L};
@@ -395,6 +395,24 @@ TEST_F(Textures, VertexColorsScaleTheBaseColor)
             }
         }
     }
+}
+
+// COLOR_0's alpha multiplies the base colour's: a black BLEND quad whose
+// vertex alpha is 0.25 lets 0.75 of the uniform background L through,
+// where alpha 1 (the colour's alpha ignored) would show black. Within 5
+// standard errors of the image's mean (each camera ray passes or stops).
+TEST_F(Textures, VertexColorAlphaBlends)
+{
+    Scene s = loadGltf(writeQuadWith("blend", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}},
+                                     json::object(), false));
+    for (Material& m : s.materials) m.alphaMode = ALPHA_BLEND;
+    for (size_t k = 0; k < s.vertices.size(); ++k) s.colors.push_back({1, 1, 1, 0.25f});
+    const float L = 0.8f;
+    s.background = {L, L, L};
+    test::Render r = test::render(test::devicesUnderTest()[0], s, Algorithm::PathTracing, 32, 32, 32, 5);
+    double mean, se;
+    test::meanAndStandardError(r.image, &mean, &se);
+    EXPECT_NEAR(mean, 0.75 * L, 5 * se + 1e-4);
 }
 
 } // namespace

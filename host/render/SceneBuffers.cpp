@@ -167,10 +167,8 @@ SceneBuffers::SceneBuffers(DeviceContext& device, const Scene& scene, const Bvh&
             for (int k = 0; k < 6; ++k) uvs1[6 * i + size_t(k)] = scene.uvs1[6 * size_t(t) + size_t(k)];
         if (!scene.tangents.empty())
             for (int k = 0; k < 3; ++k) tangents[3 * i + size_t(k)] = scene.tangents[3 * size_t(t) + size_t(k)];
-        for (int k = 0; k < 3 && !scene.colors.empty(); ++k) {
-            const Vec3& c = scene.colors[3 * size_t(t) + size_t(k)];
-            colors[3 * i + size_t(k)] = {c.x, c.y, c.z, 1.0f};
-        }
+        if (!scene.colors.empty())
+            for (int k = 0; k < 3; ++k) colors[3 * i + size_t(k)] = scene.colors[3 * size_t(t) + size_t(k)];
         for (int k = 0; k < 3; ++k) {
             const Vec3& v = scene.vertices[3 * t + k];
             vertices[3 * i + k] = {v.x, v.y, v.z, 0.0f};

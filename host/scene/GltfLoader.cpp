@@ -1109,9 +1109,8 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
             if (uvSets[set].size() != 2 * positions.size()) fail(what + ": " + name + " and POSITION counts differ");
         }
         // COLOR_0 (VEC3 or VEC4 of floats, or of normalized unsigned bytes or
-        // shorts): linear RGB that multiplies the base colour. Its alpha,
-        // which glTF multiplies into the base colour's, is not read.
-        std::vector<Vec3> colors;
+        // shorts): linear RGB(A) that multiplies the base colour (and its alpha).
+        std::vector<std::array<float, 4>> colors;
         auto col = prim.attributes.find("COLOR_0");
         if (col != prim.attributes.end() && draco) {
             warnOnce(what + ": COLOR_0 of a Draco-compressed primitive is not read");
@@ -1123,10 +1122,13 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
             std::vector<float> f = readFloats(col->second, n, what + " COLOR_0");
             if (f.size() != size_t(n) * positions.size()) fail(what + ": COLOR_0 and POSITION counts differ");
             for (size_t i = 0; i < positions.size(); ++i) {
-                Vec3 c(f[size_t(n) * i], f[size_t(n) * i + 1], f[size_t(n) * i + 2]);
-                if (!isFinite(c) || std::min({c.x, c.y, c.z}) < 0.0f) fail(what + ": COLOR_0 has a negative or non-finite value");
+                std::array<float, 4> c{1, 1, 1, 1};
+                for (int k = 0; k < n; ++k) {
+                    c[size_t(k)] = f[size_t(n) * i + size_t(k)];
+                    if (!(c[size_t(k)] >= 0.0f) || !std::isfinite(c[size_t(k)]))
+                        fail(what + ": COLOR_0 has a negative or non-finite value");
+                }
                 colors.push_back(c);
-                if (n == 4 && f[size_t(n) * i + 3] < 1.0f) warnOnce(what + ": COLOR_0's alpha is not applied");
             }
         }
         std::vector<uint32_t> indices;
@@ -1200,7 +1202,7 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
         bool wantNormals = !normals.empty() || hadNormals;
         // Colours likewise: white for the triangles of primitives without COLOR_0.
         bool hadColors = !scene_.colors.empty();
-        if (!colors.empty() && !hadColors) scene_.colors.assign(scene_.vertices.size(), Vec3(1, 1, 1));
+        if (!colors.empty() && !hadColors) scene_.colors.assign(scene_.vertices.size(), {1, 1, 1, 1});
         bool wantColors = !colors.empty() || hadColors;
         // Tangents exist for every triangle (zero where no normal map reads them) once any material has a normal map.
         bool wantTangents = normalMaps_;
@@ -1210,7 +1212,7 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
             for (int k = 0; k < 3; ++k) v[k] = transformPoint(world, positions[indices[i + corner[k]]]);
             for (int k = 0; k < 3; ++k) scene_.vertices.push_back(v[k]);
             for (int k = 0; wantColors && k < 3; ++k)
-                scene_.colors.push_back(colors.empty() ? Vec3(1, 1, 1) : colors[indices[i + corner[k]]]);
+                scene_.colors.push_back(colors.empty() ? std::array<float, 4>{1, 1, 1, 1} : colors[indices[i + corner[k]]]);
             scene_.triangleMaterial.push_back(material);
             for (int set = 0; set < 2; ++set) // (0, 0) where missing; dropped unless a texture reads them
                 for (int k = 0; k < 3; ++k)

@@ -101,9 +101,10 @@ struct Scene {
     std::vector<float> uvs;
     // TEXCOORD_1 likewise, when some texture reads that set, else empty.
     std::vector<float> uvs1;
-    // COLOR_0 (linear RGB, multiplying the base colour) of every triangle's
-    // corners when some primitive has it (white for the others), else empty.
-    std::vector<Vec3> colors;
+    // COLOR_0 (linear RGBA, multiplying the base colour and its alpha) of
+    // every triangle's corners when some primitive has it (opaque white for
+    // the others), else empty.
+    std::vector<std::array<float, 4>> colors;
     // Tangent frames of every triangle's corners for normal maps (three per
     // triangle: x, y, z along +u, handedness w = ±1, the bitangent being
     // cross(n, t)·w), zero where the material has none; empty when no

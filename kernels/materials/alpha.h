@@ -4,7 +4,7 @@
  * expected radiance is alpha × the surface's + (1 − alpha) × what lies
  * behind). The BLEND decision is a hash of the ray and the triangle, so the
  * same ray meets the same surfaces in every kernel, on every device. alpha
- * is baseColorFactor's alpha times the base-colour texture's. Traversal
+ * is baseColorFactor's alpha times the base-colour texture's and COLOR_0's. Traversal
  * tests it at every candidate hit (geometry/bvh_traversal.h); a surface a
  * ray stops at is shaded as opaque. */
 #ifndef WAVEVCM_ALPHA_H
@@ -22,6 +22,9 @@ INLINE float surface_alpha(const RenderBuffers* b, __global const Material* m, i
 #ifdef HAS_TEXTURES
     if (m->baseColorTexture > 0)
         alpha *= scene_texture_alpha(b, m->baseColorTexture, tri, bary);
+#endif
+#ifdef HAS_VERTEX_COLORS
+    alpha *= vertex_alpha(b, tri, bary);
 #endif
     return alpha;
 }

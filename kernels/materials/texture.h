@@ -102,6 +102,26 @@ INLINE float scene_texture_alpha(const RenderBuffers* b, int index, int tri, vec
     return texture_alpha(b->textureTexels, t, uv.x, uv.y);
 }
 
+#ifdef HAS_VERTEX_COLORS
+/* COLOR_0 interpolated over triangle `tri` at barycentrics `bary`: its RGB
+ * multiplies the base colour (surface_material), its alpha the base
+ * colour's alpha (alpha.h). Component by component, as core/vec3.h loads
+ * them, so that PoCL can still run the shade kernels in SIMD. */
+INLINE vec3 vertex_color(const RenderBuffers* b, int tri, vec2 bary)
+{
+    float w0 = 1.0f - bary.x - bary.y;
+    return v3_add(v3_scale(load_vec3(b->triColors, 3 * tri), w0),
+                  v3_add(v3_scale(load_vec3(b->triColors, 3 * tri + 1), bary.x),
+                         v3_scale(load_vec3(b->triColors, 3 * tri + 2), bary.y)));
+}
+
+INLINE float vertex_alpha(const RenderBuffers* b, int tri, vec2 bary)
+{
+    return load_w(b->triColors, 3 * tri) * (1.0f - bary.x - bary.y) + load_w(b->triColors, 3 * tri + 1) * bary.x +
+           load_w(b->triColors, 3 * tri + 2) * bary.y;
+}
+#endif
+
 /* What material m is on triangle `tri` at barycentrics `bary`: its factors
  * times its vertex colours and textures there — the base-colour texture's RGB, the
  * metallic-roughness texture's B (metallic) and G (roughness), the
@@ -110,11 +130,7 @@ INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const M
 {
     SurfaceMaterial s = material_factors(m);
 #ifdef HAS_VERTEX_COLORS
-    /* COLOR_0, interpolated over the triangle, multiplies the base colour. */
-    vec3 c0 = load_vec3(b->triColors, 3 * tri), c1 = load_vec3(b->triColors, 3 * tri + 1),
-         c2 = load_vec3(b->triColors, 3 * tri + 2);
-    vec3 color = v3_add(v3_scale(c0, 1.0f - bary.x - bary.y), v3_add(v3_scale(c1, bary.x), v3_scale(c2, bary.y)));
-    s.baseColor = v3_mul(s.baseColor, color);
+    s.baseColor = v3_mul(s.baseColor, vertex_color(b, tri, bary));
 #endif
 #ifdef HAS_TEXTURES
     if (m->baseColorTexture > 0)
