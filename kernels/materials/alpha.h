@@ -4,9 +4,9 @@
  * expected radiance is alpha × the surface's + (1 − alpha) × what lies
  * behind). The BLEND decision is a hash of the ray and the triangle, so the
  * same ray meets the same surfaces in every kernel, on every device. alpha
- * is baseColorFactor's alpha times the base-colour texture's and COLOR_0's. Traversal
- * tests it at every candidate hit (geometry/bvh_traversal.h); a surface a
- * ray stops at is shaded as opaque. */
+ * is baseColorFactor's alpha times the base-colour texture's and COLOR_0's.
+ * Traversal tests it at every candidate hit (geometry/bvh_traversal.h); a
+ * surface a ray stops at is shaded as opaque. */
 #ifndef WAVEVCM_ALPHA_H
 #define WAVEVCM_ALPHA_H
 

@@ -123,8 +123,8 @@ INLINE float vertex_alpha(const RenderBuffers* b, int tri, vec2 bary)
 #endif
 
 /* What material m is on triangle `tri` at barycentrics `bary`: its factors
- * times its vertex colours and textures there — the base-colour texture's RGB, the
- * metallic-roughness texture's B (metallic) and G (roughness), the
+ * times its vertex colours and textures there — the base-colour texture's
+ * RGB, the metallic-roughness texture's B (metallic) and G (roughness), the
  * transmission texture's R. */
 INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const Material* m, int tri, vec2 bary)
 {
