@@ -121,7 +121,7 @@ private:
     void visitNodes();
     void chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed);
     void addMesh(int meshIndex, const Mat4& world, const std::string& nodeName, const tinygltf::Node& node);
-    std::vector<Mat4> skinMatrices(int skin, const std::string& nodeName);
+    const std::vector<Mat4>& skinMatrices(int skin, const std::string& nodeName);
     std::vector<Mat4> vertexSkinMatrices(const tinygltf::Primitive& prim, const std::vector<Mat4>& joints,
                                          size_t count, const std::string& what);
     void addCamera(int cameraIndex, const Mat4& world);
@@ -172,6 +172,7 @@ private:
     std::map<std::pair<int, int>, std::vector<uint32_t>> dracoTriangles_; // (mesh, primitive) → decoded indices
     std::map<int, std::vector<float>> dracoFloats_;                      // accessor → its decoded elements
     std::map<int, Mat4> jointWorld_; // skins' joint nodes → their world transforms (before the origin's move)
+    std::map<int, std::vector<Mat4>> skinMatrices_; // skin → its joint matrices (likewise), made once
 };
 
 bool decodeGltfImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
@@ -638,8 +639,9 @@ void Loader::chooseOrigin(const std::vector<std::pair<int, Mat4>>& placed)
         // so within the bound of the box under each of them (a vertex of no
         // weight, left in the bind pose, is not counted: the bound only
         // picks a centre).
-        std::vector<Mat4> instances =
-            node.skin >= 0 ? skinMatrices(node.skin, "node " + std::to_string(index)) : std::vector<Mat4>{world};
+        const std::vector<Mat4> placedBy{world};
+        const std::vector<Mat4>& instances =
+            node.skin >= 0 ? skinMatrices(node.skin, "node " + std::to_string(index)) : placedBy;
         if (node.skin < 0 && determinant3(world) == 0) continue; // a zero-scale instance, which addMesh skips
         const std::vector<tinygltf::Primitive>& primitives = model_.meshes[meshIndex].primitives;
         for (size_t p = 0; p < primitives.size(); ++p) {
@@ -962,9 +964,13 @@ std::vector<Vec3> Loader::morphDisplacement(const tinygltf::Primitive& prim, con
 }
 
 // Skin `skin`'s joint matrices (glTF 2.0 §3.7.3): each joint's world
-// transform (the origin's move included) times its inverse bind matrix.
-std::vector<Mat4> Loader::skinMatrices(int skin, const std::string& nodeName)
+// transform (in the file's coordinates, before the origin's move) times its
+// inverse bind matrix; made once per skin, for chooseOrigin and every
+// instance.
+const std::vector<Mat4>& Loader::skinMatrices(int skin, const std::string& nodeName)
 {
+    auto made = skinMatrices_.find(skin);
+    if (made != skinMatrices_.end()) return made->second;
     if (skin < 0 || size_t(skin) >= model_.skins.size())
         fail(nodeName + ": skin index " + std::to_string(skin) + " out of range");
     const tinygltf::Skin& s = model_.skins[size_t(skin)];
@@ -980,15 +986,13 @@ std::vector<Mat4> Loader::skinMatrices(int skin, const std::string& nodeName)
         auto world = jointWorld_.find(s.joints[j]);
         if (world == jointWorld_.end())
             fail(what + ": joint node " + std::to_string(s.joints[j]) + " is not in the rendered scene");
-        Mat4 joint = world->second;
-        for (int k = 0; k < 3; ++k) joint[12 + k] -= scene_.origin[k];
         Mat4 inverse = identity();
         if (!inverseBind.empty()) std::copy_n(&inverseBind[16 * j], 16, inverse.begin());
-        out.push_back(multiply(joint, inverse));
+        out.push_back(multiply(world->second, inverse));
         for (double v : out.back())
             if (!std::isfinite(float(v))) fail(what + ": joint " + std::to_string(j) + " has a non-finite matrix");
     }
-    return out;
+    return skinMatrices_[skin] = std::move(out);
 }
 
 // Each vertex's skinning matrix: the joint matrices weighted by its JOINTS_n
@@ -1045,6 +1049,8 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
     // A skinned mesh ignores its node's transform (glTF 2.0 §3.7.3.3): its
     // joints place each vertex, which is then in world space already.
     std::vector<Mat4> joints = node.skin >= 0 ? skinMatrices(node.skin, nodeName) : std::vector<Mat4>();
+    for (Mat4& m : joints) // translate(−origin) · m, as for the node's own transform
+        for (int k = 0; k < 3; ++k) m[12 + size_t(k)] -= scene_.origin[k];
     if (joints.empty() && determinant3(nodeWorld) == 0.0) {
         warn(nodeName + ": zero-scale transform; its mesh is skipped");
         return;
