@@ -85,12 +85,7 @@ Scene boxWithAbsorbingSphere(bool lightInside)
     Scene scene = loadGltf(test::cornellBoxPath());
     scene.materials.push_back(absorbingGlass(1.5f, 0.55f, 0.3f));
     test::addSphere(scene, centre, 0.6f, false, int(scene.materials.size()) - 1);
-    // The box has vertex normals: the sphere's triangles get their flat ones.
-    for (size_t v = scene.normals.size(); v < scene.vertices.size(); v += 3) {
-        const Vec3* t = &scene.vertices[v];
-        Vec3 n = normalize(cross(t[1] - t[0], t[2] - t[0]));
-        for (int k = 0; k < 3; ++k) scene.normals.push_back(n);
-    }
+    test::addFlatNormals(scene); // the box has vertex normals: the sphere's triangles get their flat ones
     if (lightInside) {
         Light light{};
         light.type = LIGHT_POINT;

@@ -125,12 +125,7 @@ TEST(HardCases, GlassOfIndexOneIsInvisible)
     Scene withSphere = plain;
     withSphere.materials.push_back(test::smoothGlass(1.0f));
     test::addSphere(withSphere, {0, 1.2f, 0}, 0.3f, false, int(withSphere.materials.size()) - 1);
-    // The box has vertex normals: the sphere's triangles get their flat ones.
-    for (size_t v = withSphere.normals.size(); v < withSphere.vertices.size(); v += 3) {
-        const Vec3* t = &withSphere.vertices[v];
-        Vec3 n = normalize(cross(t[1] - t[0], t[2] - t[0]));
-        for (int k = 0; k < 3; ++k) withSphere.normals.push_back(n);
-    }
+    test::addFlatNormals(withSphere); // the box has vertex normals: the sphere's triangles get their flat ones
     DeviceInfo device = test::devicesUnderTest()[0];
     for (Algorithm a : {Algorithm::PathTracing, Algorithm::Bidirectional, Algorithm::VertexConnectionMerging}) {
         SCOPED_TRACE(algorithmName(a));

@@ -33,6 +33,15 @@ void addSphere(Scene& s, Vec3 centre, float radius, bool inward, int material, i
         }
 }
 
+void addFlatNormals(Scene& s)
+{
+    for (size_t v = s.normals.size(); v < s.vertices.size(); v += 3) {
+        const Vec3* t = &s.vertices[v];
+        Vec3 n = normalize(cross(t[1] - t[0], t[2] - t[0]));
+        for (int k = 0; k < 3; ++k) s.normals.push_back(n);
+    }
+}
+
 Material lambert(float albedo, float emission)
 {
     Material m{};

@@ -18,6 +18,10 @@ namespace wv::test {
 // geometric normal) looks at the centre.
 void addSphere(Scene& s, Vec3 centre, float radius, bool inward, int material, int rings = 24, int segments = 48);
 
+// Flat vertex normals for the triangles added after the scene's last
+// normals (a scene with vertex normals needs them for every triangle).
+void addFlatNormals(Scene& s);
+
 Material lambert(float albedo, float emission = 0);
 Material smoothGlass(float ior = 1.5f);
 
