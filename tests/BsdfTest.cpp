@@ -105,6 +105,7 @@ uint32_t loaderLobes(const Material& m)
     if (diffuse) lobes |= LOBE_DIFFUSE;
     if (metalReflects || dielectricReflects) lobes |= smooth ? LOBE_DELTA_REFLECTION : LOBE_GGX_REFLECTION;
     if (transmits) lobes |= smooth ? LOBE_DELTA_TRANSMISSION : LOBE_GGX_TRANSMISSION;
+    if (m.clearcoat > 0) lobes |= m.clearcoatRoughness * m.clearcoatRoughness < 1e-3f ? LOBE_DELTA_COAT : LOBE_GGX_COAT;
     return lobes;
 }
 
@@ -126,12 +127,23 @@ Material makeMaterial(std::array<float, 3> base, float metallic, float roughness
     return m;
 }
 
+// m under a clear coat (KHR_materials_clearcoat) of weight `coat`.
+Material coated(Material m, float coat, float coatRoughness)
+{
+    m.clearcoat = coat;
+    m.clearcoatRoughness = coatRoughness;
+    m.lobes = loaderLobes(m);
+    return m;
+}
+
 const double kIor = 1.5;
 
 // Index into materials(); the White variants have base colour 1.
 enum MaterialId {
     Lambert, RoughMetal, SmootherMetal, Plastic, RoughGlass, SmoothPlastic, Mirror, SmoothGlass,
     WhiteLambert, WhiteRoughMetal, WhiteSmootherMetal, WhitePlastic, WhiteSmoothPlastic, WhiteMirror,
+    CoatedLambert, CoatedMetal, CoatedSmoothPlastic, CoatedRoughGlass, CoatedSmoothGlass, CoatedBlack,
+    WhiteCoatedLambert, WhiteCoatedMetal,
 };
 
 std::vector<Material> materials()
@@ -153,6 +165,15 @@ std::vector<Material> materials()
         makeMaterial(grey(1), 0, 0.4f, 1),            // WhitePlastic
         makeMaterial(grey(1), 0, 0, 1),               // WhiteSmoothPlastic
         makeMaterial(grey(1), 1, 0, 1),               // WhiteMirror
+        // coat weight, coat roughness
+        coated(makeMaterial(grey(0.8f), 0, 1, 0), 1, 0.3f),                // CoatedLambert: a GGX coat
+        coated(makeMaterial(grey(0.9f), 1, 0.5f, 1), 0.7f, 0),             // CoatedMetal: a smooth coat
+        coated(makeMaterial(grey(0.6f), 0, 0, 1), 0.5f, 0.2f),             // CoatedSmoothPlastic
+        coated(makeMaterial(grey(1), 0, 0.3f, 1, 1, false), 1, 0.2f),      // CoatedRoughGlass
+        coated(makeMaterial(grey(1), 0, 0, 1, 1, false), 1, 0),            // CoatedSmoothGlass
+        coated(makeMaterial(grey(0), 0, 1, 0), 0.5f, 0),                   // CoatedBlack: the coat alone
+        coated(makeMaterial(grey(1), 0, 1, 0), 1, 0.3f),                   // WhiteCoatedLambert
+        coated(makeMaterial(grey(1), 1, 0.5f, 1), 1, 0.1f),                // WhiteCoatedMetal
     };
 }
 
@@ -170,6 +191,12 @@ TEST(BsdfMaterials, HaveTheIntendedLobes)
     EXPECT_EQ(m[Mirror].lobes, LOBE_DELTA_REFLECTION);
     EXPECT_EQ(m[SmoothGlass].lobes, LOBE_DELTA_REFLECTION | LOBE_DELTA_TRANSMISSION);
     for (int i = WhiteLambert; i <= WhiteMirror; ++i) EXPECT_EQ(m[i].baseColor[1], 1.0f);
+    EXPECT_EQ(m[CoatedLambert].lobes, LOBE_DIFFUSE | LOBE_GGX_COAT);
+    EXPECT_EQ(m[CoatedMetal].lobes, LOBE_GGX_REFLECTION | LOBE_DELTA_COAT);
+    EXPECT_EQ(m[CoatedSmoothPlastic].lobes, LOBE_DIFFUSE | LOBE_DELTA_REFLECTION | LOBE_GGX_COAT);
+    EXPECT_EQ(m[CoatedRoughGlass].lobes, LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT);
+    EXPECT_EQ(m[CoatedSmoothGlass].lobes, LOBE_DELTA_REFLECTION | LOBE_DELTA_TRANSMISSION | LOBE_DELTA_COAT);
+    EXPECT_EQ(m[CoatedBlack].lobes, LOBE_DELTA_COAT);
 }
 
 // A BSDF set-up: which material, which side wo is on, which transport mode.
@@ -196,6 +223,11 @@ const Case kNonDeltaCases[] = {
     {"smooth plastic", SmoothPlastic, true},
     {"rough glass outside", RoughGlass, true},
     {"rough glass inside", RoughGlass, false},
+    {"coated Lambert", CoatedLambert, true},
+    {"coated metal", CoatedMetal, true},
+    {"coated smooth plastic", CoatedSmoothPlastic, true},
+    {"coated rough glass outside", CoatedRoughGlass, true},
+    {"coated rough glass inside", CoatedRoughGlass, false},
 };
 
 std::string describe(const Case& c, double cosTheta)
@@ -215,7 +247,7 @@ struct Samples {
 };
 
 struct Evals {
-    std::vector<Float4> f, lobeProb; // f.w: forward pdf; lobeProb.w: η
+    std::vector<Float4> f, lobeProb; // f.w: forward pdf; lobeProb.w: the coat's
     std::vector<float> pdfRev;
 };
 
@@ -223,7 +255,7 @@ class BsdfKernels {
 public:
     BsdfKernels()
         : device_(test::devicesUnderTest().front()),
-          program_(test::buildTestProgram(device_, {test::testKernel("bsdf_tests.cl")}, "-DSCENE_LOBES=31u")),
+          program_(test::buildTestProgram(device_, {test::testKernel("bsdf_tests.cl")}, "-DSCENE_LOBES=127u")),
           materials_(materials()),
           materialBuffer_(uploadBuffer(device_, materials_.data(), materials_.size() * sizeof(Material), "materials"))
     {
@@ -274,7 +306,7 @@ public:
         return out;
     }
 
-    // Lobe probabilities (x: reflection, y: transmission, z: diffuse) at wo.
+    // Lobe probabilities (x: reflection, y: transmission, z: diffuse, w: coat) at wo.
     Float4 lobeProb(BsdfSetup setup, D3 wo) { return eval({setup}, {wo}, {wo}).lobeProb[0]; }
 
     // ∫ pdf over each bin of the (θ, φ) grid, index θ-bin × kPhiBins + φ-bin.
@@ -464,10 +496,11 @@ TEST_F(Bsdf, PdfIntegratesToAtMostOne)
             Float4 p = kernels().lobeProb(setup, wo);
             uint32_t lobes = kernels().material(c.material).lobes;
             double nonDelta = (lobes & LOBE_GGX_REFLECTION ? p[0] : 0) + (lobes & LOBE_GGX_TRANSMISSION ? p[1] : 0) +
-                              (lobes & LOBE_DIFFUSE ? p[2] : 0);
+                              (lobes & LOBE_DIFFUSE ? p[2] : 0) + (lobes & LOBE_GGX_COAT ? p[3] : 0);
+            EXPECT_NEAR(p[0] + p[1] + p[2] + p[3], 1, 1e-6) << "lobe probabilities";
             EXPECT_LE(total, 1 + tol);
             EXPECT_LE(total, nonDelta + tol) << "∫ pdf exceeds the non-delta lobes' probability";
-            if (!(lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION))) {
+            if (!(lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT))) {
                 EXPECT_NEAR(total, nonDelta, tol) << "a diffuse lobe loses no samples";
             }
         }
@@ -574,6 +607,10 @@ TEST_F(Bsdf, Reciprocity)
         {"plastic", Plastic, true},
         {"rough glass outside", RoughGlass, true},
         {"rough glass inside", RoughGlass, false},
+        {"coated Lambert", CoatedLambert, true},
+        {"coated smooth plastic", CoatedSmoothPlastic, true},
+        {"coated rough glass outside", CoatedRoughGlass, true},
+        {"coated rough glass inside", CoatedRoughGlass, false},
     };
     uint32_t seed = 300;
     for (const Case& c : cases)
@@ -647,6 +684,12 @@ TEST_F(Bsdf, WhiteMaterialsConserveEnergy)
         {"rough glass inside", RoughGlass, false},
         {"smooth glass outside", SmoothGlass, true},
         {"smooth glass inside", SmoothGlass, false},
+        {"white coated Lambert", WhiteCoatedLambert, true},
+        {"white coated metal", WhiteCoatedMetal, true},
+        {"coated rough glass outside", CoatedRoughGlass, true},
+        {"coated rough glass inside", CoatedRoughGlass, false},
+        {"coated smooth glass outside", CoatedSmoothGlass, true},
+        {"coated smooth glass inside", CoatedSmoothGlass, false},
     };
     const size_t n = 50000;
     uint32_t seed = 400;
@@ -701,6 +744,44 @@ TEST_F(Bsdf, SmoothMirrorReflectsWithSchlickFresnel)
         Evals e = kernels().eval({{Mirror, true, false}}, {wo}, {mirrorZ(-wo)});
         EXPECT_EQ(e.f[0][0], 0.0f);
         EXPECT_EQ(e.f[0][3], 0.0f);
+    }
+}
+
+// A smooth clear coat over black reflects weight × Schlick's Fresnel with
+// F0 = 0.04 (glTF's coat of index 1.5) into the mirror direction, as the
+// only lobe (probability 1; 1e-5 for float evaluation). A refracting solid
+// is coated outside only: seen from inside, the coat has no lobe, and what
+// smooth glass transmits outwards is what it transmits inwards, through the
+// coat's 1 − F at the outside direction both ways (adjoint weights).
+TEST_F(Bsdf, SmoothCoatReflectsWithSchlickFresnel)
+{
+    const Material& m = kernels().material(CoatedBlack);
+    for (double cosTheta : kCosines) {
+        SCOPED_TRACE("cos θo = " + std::to_string(cosTheta));
+        D3 wo = woAt(cosTheta);
+        Samples s = kernels().sample({CoatedBlack, true, false}, wo, 256, 700);
+        for (size_t i = 0; i < s.size(); ++i) {
+            ASSERT_EQ(s.status(i), 2);
+            ASSERT_EQ(s.wi(i).x, -wo.x);
+            ASSERT_EQ(s.wi(i).z, wo.z);
+            ASSERT_NEAR(s.wiPdf[i][3], 1.0f, 3e-7f) << "lobe probability";
+            for (int ch = 0; ch < 3; ++ch)
+                ASSERT_NEAR(s.weightStatus[i][ch], m.clearcoat * schlick(0.04, wo.z), 1e-5);
+        }
+        EXPECT_GT(kernels().lobeProb({CoatedSmoothGlass, true, false}, wo)[3], 0.0f) << "outside";
+        EXPECT_EQ(kernels().lobeProb({CoatedSmoothGlass, false, false}, wo)[3], 0.0f) << "inside";
+    }
+    // Transmission at normal incidence, both ways: (1 − F_glass)(1 − F_coat(1)).
+    double expected = (1 - fresnelDielectric(1, kIor)) * (1 - 0.04);
+    for (bool frontSide : {true, false}) {
+        Samples s = kernels().sample({CoatedSmoothGlass, frontSide, true}, woAt(1.0), 4096, 701);
+        int transmitted = 0;
+        for (size_t i = 0; i < s.size(); ++i)
+            if (s.status(i) == 2 && s.wi(i).z < 0) {
+                ++transmitted;
+                ASSERT_NEAR(s.weightStatus[i][0] * s.wiPdf[i][3], expected, 1e-5) << (frontSide ? "in" : "out");
+            }
+        EXPECT_GT(transmitted, 0);
     }
 }
 

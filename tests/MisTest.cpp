@@ -67,8 +67,11 @@ int expectedTechniques(int k, int mirror, bool deltaLight)
 // layer (each lobe chosen by its Fresnel-weighted albedo at the direction
 // the BSDF is sampled from, so forward and reverse densities differ in their
 // lobe probabilities too); rough metal; Lambertian under a smooth coat (a
-// delta lobe beside the diffuse one, which connections and merges use).
-enum class Surface { Lambert, RoughLayer, RoughMetal, SmoothCoat };
+// delta lobe beside the diffuse one, which connections and merges use); and
+// the same two under KHR_materials_clearcoat's coat, rough (a fourth lobe
+// with its own Fresnel-weighted probability) and smooth (a delta lobe above
+// the GGX one).
+enum class Surface { Lambert, RoughLayer, RoughMetal, SmoothCoat, RoughClearcoat, SmoothClearcoat };
 
 Material surfaceMaterial(Surface kind)
 {
@@ -98,6 +101,17 @@ Material surfaceMaterial(Surface kind)
         m.roughness = 0;
         m.lobes = LOBE_DIFFUSE | LOBE_DELTA_REFLECTION;
         break;
+    case Surface::RoughClearcoat:
+        m.clearcoat = 1;
+        m.clearcoatRoughness = 0.3f;
+        m.lobes = LOBE_DIFFUSE | LOBE_GGX_COAT;
+        break;
+    case Surface::SmoothClearcoat:
+        m.specular = 1;
+        m.roughness = 0.4f;
+        m.clearcoat = 0.8f;
+        m.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_DELTA_COAT;
+        break;
     }
     return m;
 }
@@ -113,7 +127,7 @@ void expectWeightsSumToOne(int lightType, bool withMirror, Surface kind = Surfac
     SceneBuffers buffers(device, scene, bvh, table);
     cl::Program program = test::buildTestProgram(
         device, {test::testKernel("mis_tests.cl")},
-        "-DSCENE_LOBES=31u -DHAS_POINT_LIGHTS -DHAS_DIRECTIONAL_LIGHTS -DHAS_BACKGROUND" +
+        "-DSCENE_LOBES=127u -DHAS_POINT_LIGHTS -DHAS_DIRECTIONAL_LIGHTS -DHAS_BACKGROUND" +
             lightSelectOption(table.info.lightCount));
     cl::Buffer material = uploadBuffer(device, &surface, sizeof surface, "material");
     const bool deltaLight = lightType == LIGHT_POINT || lightType == LIGHT_DIRECTIONAL;
@@ -238,7 +252,8 @@ TEST(Mis, WeightsSumToOneForAPointLight)
 }
 TEST(Mis, WeightsSumToOneOnGlossySurfaces)
 {
-    for (Surface kind : {Surface::RoughLayer, Surface::RoughMetal, Surface::SmoothCoat}) {
+    for (Surface kind : {Surface::RoughLayer, Surface::RoughMetal, Surface::SmoothCoat, Surface::RoughClearcoat,
+                         Surface::SmoothClearcoat}) {
         SCOPED_TRACE("surface " + std::to_string(int(kind)));
         expectWeightsSumToOne(LIGHT_TRIANGLE, false, kind);
         expectWeightsSumToOne(LIGHT_BACKGROUND, true, kind);

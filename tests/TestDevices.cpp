@@ -44,8 +44,7 @@ SceneFeatures everyFeature()
 {
     SceneFeatures all;
     all.vertexNormals = true;
-    all.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_DELTA_REFLECTION |
-                LOBE_DELTA_TRANSMISSION;
+    all.lobes = LOBES_ALL;
     all.pointLights = all.spotLights = all.directionalLights = all.emissiveTriangles = all.background = true;
     all.environmentMap = all.textures = all.normalMaps = all.alphaTest = all.emissiveTextures = all.texCoord1 = true;
     all.volumeAbsorption = all.vertexColors = true;

@@ -53,6 +53,15 @@ protected:
         Image transmission(2, 2);
         for (int y = 0; y < 2; ++y) transmission.rgb[3 * size_t(2 * y + 1)] = 1;
         writeImage((dir_ / "transmission.png").string(), transmission);
+        // Clear-coat data: R (weight) 0 in the left column, 1 in the right; G
+        // (roughness) 1 in the top row, 0 in the bottom one.
+        Image coat(2, 2);
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x) {
+                coat.rgb[3 * size_t(2 * y + x)] = float(x);
+                coat.rgb[3 * size_t(2 * y + x) + 1] = float(1 - y);
+            }
+        writeImage((dir_ / "coat.png").string(), coat);
     }
     void TearDown() override { fs::remove_all(dir_); }
 
@@ -63,7 +72,7 @@ protected:
     }
 
     // The same with the material's pbrMetallicRoughness given whole; texture
-    // 0 is texture.png, texture 1 mr.png, texture 2 transmission.png; more
+    // 0 is texture.png, texture 1 mr.png, texture 2 transmission.png, texture 3 coat.png; more
     // material extensions (KHR_materials_*) in `extensions`.
     std::string writeQuadWith(const std::string& name, const json& pbr, const json& sampler, bool uvs = true,
                               json extensions = json::object())
@@ -72,8 +81,8 @@ protected:
         // Pure Lambert (no specular layer): under a uniform background it reflects base colour × L.
         extensions["KHR_materials_specular"] = {{"specularFactor", 0.0}};
         quad.material = {{"pbrMetallicRoughness", pbr}, {"extensions", extensions}};
-        quad.extensionsUsed = {"KHR_materials_specular", "KHR_materials_transmission"};
-        quad.images = {"texture.png", "mr.png", "transmission.png"};
+        quad.extensionsUsed = {"KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_clearcoat"};
+        quad.images = {"texture.png", "mr.png", "transmission.png", "coat.png"};
         quad.sampler = sampler;
         quad.uvs = uvs;
         return test::writeQuad(dir_, name, quad);
@@ -343,6 +352,55 @@ TEST_F(Textures, TransmissionTextureScalesTransmission)
         EXPECT_GT(clearRight, 0.3) << "the emitter shows through the clear quad";
         EXPECT_LT(opaqueLeft, 0.05) << "the opaque quad is lit only from behind";
     }
+}
+
+// The clear coat's textures (KHR_materials_clearcoat): R of
+// clearcoatTexture times clearcoatFactor, G of clearcoatRoughnessTexture
+// times clearcoatRoughnessFactor. A black quad (only the coat reflects) with
+// both factors 1 and coat.png as both textures, lit by an emitter off to the
+// side, out of the mirror direction, and nothing else. Where the weight is 0
+// (left) the quad is black. Top right (weight 1, roughness 1), the rough
+// coat glows as the untextured coat of the same factors does at the same
+// seed (the same lobes and random numbers: 1e-3 relative); bottom right
+// (roughness 0) the coat is a mirror, which shows the black surroundings.
+TEST_F(Textures, ClearcoatTexturesScaleWeightAndRoughness)
+{
+    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
+    json pbr = {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}};
+    auto quad = [&](const std::string& name, bool textured) {
+        json coat = {{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 1.0}};
+        if (textured) coat["clearcoatTexture"] = coat["clearcoatRoughnessTexture"] = {{"index", 3}};
+        Scene s = loadGltf(writeQuadWith(name, pbr, clamp, true, {{"KHR_materials_clearcoat", coat}}));
+        // A two-sided emitter of radiance 20 in the plane x = 3, beside the
+        // camera's view (which sees the quad [−1, 1]² from z = 3 and no more).
+        Material light = test::lambert(0.0f, 20.0f);
+        light.doubleSided = 1;
+        s.materials.push_back(light);
+        const Vec3 e[6] = {{3, -2, 0.2f}, {3, 2, 0.2f}, {3, 2, 3}, {3, -2, 0.2f}, {3, 2, 3}, {3, -2, 3}};
+        for (int t = 0; t < 2; ++t) {
+            for (int k = 0; k < 3; ++k) s.vertices.push_back(e[3 * t + k]);
+            s.triangleMaterial.push_back(int(s.materials.size()) - 1);
+            if (!s.uvs.empty()) s.uvs.insert(s.uvs.end(), 6, 0.0f);
+        }
+        s.background = {0, 0, 0};
+        return s;
+    };
+    Scene textured = quad("coat-textured", true), plain = quad("coat-plain", false);
+    const Material& m = textured.materials.at(0);
+    ASSERT_EQ(m.clearcoatTexture, 1);
+    ASSERT_EQ(m.clearcoatRoughnessTexture, 1); // the same image, read as data once
+    EXPECT_EQ(m.lobes, LOBE_GGX_COAT) << "black base: the coat alone, rough by its factor";
+    const int size = 32, block = 8, iterations = 32;
+    DeviceInfo device = test::devicesUnderTest()[0];
+    test::Render t = test::render(device, textured, Algorithm::PathTracing, size, size, iterations, 7);
+    test::Render p = test::render(device, plain, Algorithm::PathTracing, size, size, iterations, 7);
+    double se;
+    double glow = blockMean(p.image, size, size - block, 0, block, 0, &se);
+    EXPECT_GT(glow, 0.02) << "the rough coat reflects the emitter";
+    EXPECT_NEAR(blockMean(t.image, size, size - block, 0, block, 0, &se), glow, 1e-3 * glow) << "top right";
+    EXPECT_LT(blockMean(t.image, size, size - block, size - block, block, 0, &se), 0.02 * glow) << "bottom right";
+    EXPECT_EQ(blockMean(t.image, size, 0, 0, block, 0, &se), 0.0) << "top left";
+    EXPECT_EQ(blockMean(t.image, size, 0, size - block, block, 0, &se), 0.0) << "bottom left";
 }
 
 // TEXCOORD_1: the base-colour texture read through the second set, which

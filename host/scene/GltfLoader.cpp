@@ -335,7 +335,7 @@ const std::set<std::string>& supportedExtensions()
     static const std::set<std::string> s = [] {
         std::set<std::string> names{"KHR_materials_emissive_strength", "KHR_materials_specular",
                                     "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
-                                    "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_texture_transform"};
+                                    "KHR_materials_clearcoat", "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_texture_transform"};
         if (dracoSupported()) names.insert("KHR_draco_mesh_compression");
         return names;
     }();
@@ -408,13 +408,14 @@ int Loader::sceneTexture(const tinygltf::TextureInfo& info, const std::string& m
     auto known = sceneTexture_.find({info.index, srgb, transform, texCoord});
     if (known != sceneTexture_.end()) return known->second;
     const tinygltf::Texture& t = model_.textures[size_t(info.index)];
+    int source = t.source;
     int result = 0;
-    auto image = images_.images.find(t.source);
-    if (t.source < 0 || size_t(t.source) >= model_.images.size()) {
+    auto image = images_.images.find(source);
+    if (source < 0 || size_t(source) >= model_.images.size()) {
         warnOnce(what + " has no image; the material's factor is used");
     } else if (image == images_.images.end()) {
-        auto error = images_.errors.find(t.source);
-        warnOnce(what + ": " + (error != images_.errors.end() ? error->second : "image " + std::to_string(t.source) +
+        auto error = images_.errors.find(source);
+        warnOnce(what + ": " + (error != images_.errors.end() ? error->second : "image " + std::to_string(source) +
                                     " could not be read") + "; the material's factor is used");
     } else {
         Texture texture;
@@ -498,19 +499,38 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
         if (!(ior >= 1.0) || !std::isfinite(ior)) fail(name + ": KHR_materials_ior ior must be >= 1, got " + std::to_string(ior));
         out.ior = float(ior);
     }
+    // An extension's texture reference is plain JSON to tinygltf: its texture
+    // (linear data), or 0 where it has none.
+    auto extensionTexture = [&](const tinygltf::Value& e, const char* extensionName, const char* key,
+                                const char* kind) {
+        if (!e.Has(key)) return 0;
+        const tinygltf::Value& t = e.Get(key);
+        if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsInt())
+            fail(name + ": " + extensionName + "." + key + " needs an integer index");
+        tinygltf::TextureInfo info;
+        info.index = t.Get("index").GetNumberAsInt();
+        info.texCoord = t.Has("texCoord") && t.Get("texCoord").IsInt() ? t.Get("texCoord").GetNumberAsInt() : 0;
+        if (t.Has("extensions") && t.Get("extensions").IsObject())
+            for (const std::string& k : t.Get("extensions").Keys()) info.extensions[k] = t.Get("extensions").Get(k);
+        return sceneTexture(info, name, kind, false);
+    };
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_transmission")) {
         out.transmission = clamp01(number(*e, "transmissionFactor", 0.0));
-        if (e->Has("transmissionTexture")) {
-            // An extension's texture reference is plain JSON to tinygltf.
-            const tinygltf::Value& t = e->Get("transmissionTexture");
-            if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsInt())
-                fail(name + ": KHR_materials_transmission.transmissionTexture needs an integer index");
-            tinygltf::TextureInfo info;
-            info.index = t.Get("index").GetNumberAsInt();
-            info.texCoord = t.Has("texCoord") && t.Get("texCoord").IsInt() ? t.Get("texCoord").GetNumberAsInt() : 0;
-            if (t.Has("extensions") && t.Get("extensions").IsObject())
-                for (const std::string& key : t.Get("extensions").Keys()) info.extensions[key] = t.Get("extensions").Get(key);
-            out.transmissionTexture = sceneTexture(info, name, "transmission", false);
+        out.transmissionTexture =
+            extensionTexture(*e, "KHR_materials_transmission", "transmissionTexture", "transmission");
+    }
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_clearcoat")) {
+        out.clearcoat = clamp01(number(*e, "clearcoatFactor", 0.0));
+        out.clearcoatRoughness = clamp01(number(*e, "clearcoatRoughnessFactor", 0.0));
+        if (out.clearcoat > 0) {
+            out.clearcoatTexture = extensionTexture(*e, "KHR_materials_clearcoat", "clearcoatTexture", "clearcoat");
+            out.clearcoatRoughnessTexture = extensionTexture(*e, "KHR_materials_clearcoat",
+                                                             "clearcoatRoughnessTexture", "clearcoat roughness");
+            // The BSDF has one shading frame (kernels/materials/bsdf.h).
+            if (e->Has("clearcoatNormalTexture"))
+                warnOnce(name + ": the clearcoat normal texture is ignored; the coat follows the base's shading normal");
+            else if (out.normalTexture > 0)
+                warnOnce(name + ": the clearcoat follows the base's normal texture, where glTF leaves the coat unmapped");
         }
     }
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_volume")) {
@@ -541,6 +561,8 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     if (diffuse) out.lobes |= LOBE_DIFFUSE;
     if (metalReflects || dielectricReflects) out.lobes |= smooth ? LOBE_DELTA_REFLECTION : LOBE_GGX_REFLECTION;
     if (transmits) out.lobes |= smooth ? LOBE_DELTA_TRANSMISSION : LOBE_GGX_TRANSMISSION;
+    if (out.clearcoat > 0)
+        out.lobes |= out.clearcoatRoughness * out.clearcoatRoughness < 1e-3f ? LOBE_DELTA_COAT : LOBE_GGX_COAT;
     return out;
 }
 

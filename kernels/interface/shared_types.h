@@ -86,10 +86,13 @@ typedef struct Camera {
 #define LOBE_GGX_TRANSMISSION 4u
 #define LOBE_DELTA_REFLECTION 8u
 #define LOBE_DELTA_TRANSMISSION 16u
+#define LOBE_GGX_COAT 32u   /* KHR_materials_clearcoat: a GGX reflection on top of the others */
+#define LOBE_DELTA_COAT 64u /* the same, smooth */
+#define LOBES_ALL 127u
 
 /* The glTF metallic-roughness model with KHR_materials_specular,
- * _transmission, _ior, _volume and _emissive_strength folded in; see
- * docs/materials.md for the mapping. */
+ * _transmission, _ior, _volume, _clearcoat and _emissive_strength folded in;
+ * see docs/scenes.md, "Materials", for the mapping. */
 typedef struct Material {
     float baseColor[3];
     float metallic;
@@ -113,6 +116,10 @@ typedef struct Material {
     int emissiveTexture;       /* 1 + its index in the texture table; its RGB scales emission (materials/emission.h) */
     int transmissionTexture;   /* the same; its R scales transmission (KHR_materials_transmission) */
     int doubleSided;           /* glTF doubleSided: an emitter emits from both faces (else its front only) */
+    float clearcoat;           /* KHR_materials_clearcoat clearcoatFactor; 0: no coat */
+    float clearcoatRoughness;  /* clearcoatRoughnessFactor; the coat's GGX alpha = this² */
+    int clearcoatTexture;      /* 1 + its index in the texture table; its R scales clearcoat */
+    int clearcoatRoughnessTexture; /* the same; its G scales clearcoatRoughness */
     int pad[2];
 } Material;
 

@@ -1,6 +1,7 @@
-/* The BSDF of a glTF material (docs/scenes.md): up to three lobes —
+/* The BSDF of a glTF material (docs/scenes.md): up to four lobes —
  * reflection (metal plus the dielectric specular layer; GGX or smooth),
- * transmission (GGX or smooth), Lambert diffuse — with lobes the scene lacks
+ * transmission (GGX or smooth), Lambert diffuse, and a clear coat over them
+ * (KHR_materials_clearcoat; GGX or smooth) — with lobes the scene lacks
  * compiled out through SCENE_LOBES.
  *
  * Directions are in the local shading frame (normal +z), pointing away from
@@ -19,10 +20,11 @@
 #include "interface/shared_types.h"
 
 #ifndef SCENE_LOBES
-#define SCENE_LOBES 31u
+#define SCENE_LOBES LOBES_ALL
 #endif
 #define LOBES_REFLECT (LOBE_GGX_REFLECTION | LOBE_DELTA_REFLECTION)
 #define LOBES_TRANSMIT (LOBE_GGX_TRANSMISSION | LOBE_DELTA_TRANSMISSION)
+#define LOBES_COAT (LOBE_GGX_COAT | LOBE_DELTA_COAT)
 
 typedef struct Bsdf {
     uint lobes;
@@ -35,7 +37,11 @@ typedef struct Bsdf {
     float specular;     /* (1 − metallic) · specularFactor */
     vec3 transmitColor; /* (1 − metallic) · transmission · base colour */
     vec3 diffuseColor;  /* (1 − metallic) · (1 − transmission) · base colour */
+    float coat;         /* the clear coat's weight on wo's side (0: none there) */
+    float coatBack;     /* the same on the other side, which transmission crosses */
+    float coatAlpha;    /* the coat's GGX α */
     vec3 lobeProb;      /* probabilities of picking reflection, transmission, diffuse at wo */
+    float coatProb;     /* that of picking the coat; the four sum to 1 */
 } Bsdf;
 
 typedef struct BsdfSample {
@@ -69,13 +75,38 @@ INLINE float layer_transmittance(const Bsdf* b, float cosH, float eta)
     return 1.0f - b->specular * layer_fresnel(b, cosH, eta);
 }
 
-/* Lobe selection probabilities for a path arriving from direction w
- * (cos θ = cosW > 0, relative index eta), proportional to each lobe's
- * albedo estimate there. */
-INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
+/* The clear coat (KHR_materials_clearcoat): glTF's dielectric layer of
+ * index 1.5, Schlick's Fresnel with F0 = 0.04, reflecting weight · F and
+ * letting 1 − weight · F through to the lobes beneath, at each direction that
+ * crosses it. The extension weighs the layers by F at the view direction
+ * alone; a factor for both directions keeps the BSDF reciprocal, which light
+ * paths need (pbrt-v4's and Enterprise PBR's layering do the same). */
+INLINE float coat_fresnel(float cosI)
 {
-    float through = layer_transmittance(b, cosW, eta);
-    float r = (b->lobes & LOBES_REFLECT) ? luminance(reflectance(b, cosW, eta)) : 0.0f;
+    float m = clamp(1.0f - cosI, 0.0f, 1.0f);
+    float m2 = m * m;
+    return 0.04f + 0.96f * m2 * m2 * m;
+}
+
+/* What a coat of weight `coat` lets through at cos θ = cosW (1 in scenes
+ * without coats, so that the compiler drops it). */
+INLINE float coat_through(float coat, float cosW)
+{
+#if SCENE_LOBES & LOBES_COAT
+    return 1.0f - coat * coat_fresnel(fabs(cosW));
+#else
+    return 1.0f;
+#endif
+}
+
+/* Lobe selection probabilities for a path arriving from direction w
+ * (cos θ = cosW > 0, relative index eta, coat weight `coat` on w's side),
+ * proportional to each lobe's albedo estimate there: reflection,
+ * transmission, diffuse, and the coat's in *coatProb. */
+INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta, float coat, float* coatProb)
+{
+    float through = layer_transmittance(b, cosW, eta) * coat_through(coat, cosW);
+    float r = (b->lobes & LOBES_REFLECT) ? coat_through(coat, cosW) * luminance(reflectance(b, cosW, eta)) : 0.0f;
     /* Rough refraction keeps a floor: microfacets tilted towards w refract
      * even where the macro-surface reflects totally (through = 0 beyond the
      * critical angle), and a zero probability would zero its f and pdfs
@@ -83,7 +114,13 @@ INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
     float tThrough = ((b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts) ? fmax(through, 0.1f) : through;
     float t = (b->lobes & LOBES_TRANSMIT) ? tThrough * luminance(b->transmitColor) : 0.0f;
     float d = (b->lobes & LOBE_DIFFUSE) ? through * luminance(b->diffuseColor) : 0.0f;
-    float sum = r + t + d;
+#if SCENE_LOBES & LOBES_COAT
+    float c = coat * coat_fresnel(cosW);
+#else
+    float c = 0.0f;
+#endif
+    float sum = r + t + d + c;
+    *coatProb = sum > 0.0f ? c / sum : 0.0f;
     return sum > 0.0f ? v3(r / sum, t / sum, d / sum) : v3s(0.0f);
 }
 
@@ -92,6 +129,7 @@ INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta)
 typedef struct SurfaceMaterial {
     vec3 baseColor;
     float metallic, roughness, transmission;
+    float clearcoat, clearcoatRoughness;
 } SurfaceMaterial;
 
 /* The factors alone (untextured). */
@@ -102,6 +140,8 @@ INLINE SurfaceMaterial material_factors(__global const Material* m)
     s.metallic = m->metallic;
     s.roughness = m->roughness;
     s.transmission = m->transmission;
+    s.clearcoat = m->clearcoat;
+    s.clearcoatRoughness = m->clearcoatRoughness;
     return s;
 }
 
@@ -125,7 +165,17 @@ INLINE Bsdf make_bsdf(__global const Material* m, const SurfaceMaterial* at, vec
     b.specularTint = v3_scale(load3(m->specularColor), b.specular);
     b.transmitColor = v3_scale(base, dielectric * at->transmission);
     b.diffuseColor = v3_scale(base, dielectric * (1.0f - at->transmission));
-    b.lobeProb = lobe_probabilities(&b, wo.z, b.eta);
+#if SCENE_LOBES & LOBES_COAT
+    /* A refracting solid is coated outside; a two-sided surface on both faces. */
+    float coat = (b.lobes & LOBES_COAT) ? at->clearcoat : 0.0f;
+    b.coat = (b.refracts && !frontSide) ? 0.0f : coat;
+    b.coatBack = (b.refracts && frontSide) ? 0.0f : coat;
+    b.coatAlpha = fmax(at->clearcoatRoughness * at->clearcoatRoughness, 1e-3f);
+#else
+    b.coat = b.coatBack = 0.0f;
+    b.coatAlpha = 1.0f;
+#endif
+    b.lobeProb = lobe_probabilities(&b, wo.z, b.eta, b.coat, &b.coatProb);
     return b;
 }
 
@@ -137,7 +187,8 @@ INLINE float continuation_probability(const Bsdf* b)
 {
     vec3 albedo = v3_add(v3_add(v3_add(v3_scale(b->metalF0, b->metallic), b->specularTint), b->transmitColor),
                          b->diffuseColor);
-    return clamp(max_component(albedo), 0.0f, 1.0f);
+    /* The coat's weight whichever side it is on, so that both sides agree. */
+    return clamp(max_component(albedo) + fmax(b->coat, b->coatBack), 0.0f, 1.0f);
 }
 
 /* False when the material has only delta lobes (in this scene): then no
@@ -145,17 +196,21 @@ INLINE float continuation_probability(const Bsdf* b)
  * surface can be skipped before building one. */
 INLINE bool material_has_nondelta(__global const Material* m)
 {
-    return (m->lobes & SCENE_LOBES & (LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION)) != 0u;
+    return (m->lobes & SCENE_LOBES & (LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT)) != 0u;
 }
 
-INLINE bool bsdf_is_black(const Bsdf* b) { return b->lobeProb.x + b->lobeProb.y + b->lobeProb.z <= 0.0f; }
+INLINE bool bsdf_is_black(const Bsdf* b)
+{
+    return b->lobeProb.x + b->lobeProb.y + b->lobeProb.z + b->coatProb <= 0.0f;
+}
 
 /* Whether some lobe has a finite density, i.e. light sampling and
  * connections can contribute here. */
 INLINE bool bsdf_has_nondelta(const Bsdf* b)
 {
     return b->lobeProb.z > 0.0f || (b->lobeProb.x > 0.0f && (b->lobes & LOBE_GGX_REFLECTION)) ||
-           (b->lobeProb.y > 0.0f && (b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts);
+           (b->lobeProb.y > 0.0f && (b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts) ||
+           (b->coatProb > 0.0f && (b->lobes & LOBE_GGX_COAT));
 }
 
 /* Generalised half vector of refraction h ∝ wo + η·wi, oriented to +z. */
@@ -182,13 +237,16 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
     if (wo.z <= 0.0f || wi.z == 0.0f)
         return f;
     if (wi.z > 0.0f) {
-        /* Reflection: wi is on wo's side, sees the same η. */
-        vec3 probRev = lobe_probabilities(b, wi.z, b->eta);
+        /* Reflection: wi is on wo's side, sees the same η and coat. */
+        float coatRev;
+        vec3 probRev = lobe_probabilities(b, wi.z, b->eta, b->coat, &coatRev);
+        /* What reaches the lobes beneath the coat and comes back out. */
+        float underCoat = coat_through(b->coat, wo.z) * coat_through(b->coat, wi.z);
 #if SCENE_LOBES & LOBE_DIFFUSE
         if (b->lobeProb.z > 0.0f) {
             /* Light enters and leaves through the dielectric layer: both
              * transmittances, so the lobe is reciprocal. */
-            f = v3_add(f, v3_scale(b->diffuseColor, layer_transmittance(b, wo.z, b->eta) *
+            f = v3_add(f, v3_scale(b->diffuseColor, underCoat * layer_transmittance(b, wo.z, b->eta) *
                                                         layer_transmittance(b, wi.z, b->eta) * INV_PI_F));
             *pdfFwd += b->lobeProb.z * wi.z * INV_PI_F;
             *pdfRev += probRev.z * wo.z * INV_PI_F;
@@ -199,9 +257,19 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
             vec3 h = v3_normalize(v3_add(wo, wi));
             float cosH = v3_dot(wo, h);
             f = v3_add(f, v3_scale(reflectance(b, cosH, b->eta),
-                                   ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) / (4.0f * wo.z * wi.z)));
+                                   underCoat * ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) / (4.0f * wo.z * wi.z)));
             *pdfFwd += b->lobeProb.x * ggx_visible_pdf(wo, h, b->alpha) / (4.0f * cosH);
             *pdfRev += probRev.x * ggx_visible_pdf(wi, h, b->alpha) / (4.0f * cosH);
+        }
+#endif
+#if SCENE_LOBES & LOBE_GGX_COAT
+        if (b->coatProb > 0.0f && (b->lobes & LOBE_GGX_COAT)) {
+            vec3 h = v3_normalize(v3_add(wo, wi));
+            float cosH = v3_dot(wo, h);
+            f = v3_add(f, v3s(b->coat * coat_fresnel(cosH) * ggx_d(h, b->coatAlpha) *
+                              ggx_g(wo, wi, b->coatAlpha) / (4.0f * wo.z * wi.z)));
+            *pdfFwd += b->coatProb * ggx_visible_pdf(wo, h, b->coatAlpha) / (4.0f * cosH);
+            *pdfRev += coatRev * ggx_visible_pdf(wi, h, b->coatAlpha) / (4.0f * cosH);
         }
 #endif
     } else {
@@ -211,7 +279,8 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
             float oh = v3_dot(wo, h), ih = v3_dot(wi, h);
             if (oh > 0.0f && ih < 0.0f) { /* a microfacet both directions see */
                 float denom = ih + oh / b->eta;
-                float T = layer_transmittance(b, oh, b->eta);
+                float T = layer_transmittance(b, oh, b->eta) * coat_through(b->coat, wo.z) *
+                          coat_through(b->coatBack, wi.z);
                 float value = ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) * fabs(ih * oh / (wi.z * wo.z * denom * denom));
                 if (!adjoint)
                     value /= b->eta * b->eta;
@@ -220,7 +289,8 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
                 /* Reverse: from wi's side (mirrored so it is "above"), η
                  * inverts and the roles of the directions swap. */
                 vec3 wiUp = v3(wi.x, wi.y, -wi.z), hUp = v3(-h.x, -h.y, h.z);
-                vec3 probRev = lobe_probabilities(b, -wi.z, 1.0f / b->eta);
+                float coatRev;
+                vec3 probRev = lobe_probabilities(b, -wi.z, 1.0f / b->eta, b->coatBack, &coatRev);
                 *pdfRev += probRev.y * ggx_visible_pdf(wiUp, hUp, b->alpha) *
                            refraction_jacobian(-ih, -oh, 1.0f / b->eta);
             }
@@ -244,7 +314,9 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
             s->wi = v3(-wo.x, -wo.y, wo.z);
             s->pdf = s->pdfRev = pR;
             s->delta = true;
-            s->weight = v3_div(reflectance(b, wo.z, b->eta), pR); /* f·cos/pdf with f = R·δ/cos */
+            /* f·cos/pdf with f = R·δ/cos, through the coat both ways */
+            float underCoat = coat_through(b->coat, wo.z) * coat_through(b->coat, wo.z);
+            s->weight = v3_scale(reflectance(b, wo.z, b->eta), underCoat / pR);
             return true;
         }
 #if SCENE_LOBES & LOBE_GGX_REFLECTION
@@ -257,17 +329,17 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
 #endif
     } else if (u1 < pR + pT) {
         if ((b->lobes & LOBE_DELTA_TRANSMISSION) || !b->refracts) {
-            float T = layer_transmittance(b, wo.z, b->eta);
+            float T = layer_transmittance(b, wo.z, b->eta) * coat_through(b->coat, wo.z);
             s->delta = true;
             s->pdf = s->pdfRev = pT;
             if (!b->refracts) { /* thin-walled: straight through */
                 s->wi = v3_neg(wo);
-                s->weight = v3_div(v3_scale(b->transmitColor, T), pT);
+                s->weight = v3_scale(b->transmitColor, T * coat_through(b->coatBack, wo.z) / pT);
                 return true;
             }
             if (!refract_direction(wo, v3(0.0f, 0.0f, 1.0f), b->eta, &s->wi))
                 return false; /* TIR: T = 0 here anyway */
-            float scale = adjoint ? 1.0f : 1.0f / (b->eta * b->eta);
+            float scale = coat_through(b->coatBack, s->wi.z) * (adjoint ? 1.0f : 1.0f / (b->eta * b->eta));
             s->weight = v3_div(v3_scale(b->transmitColor, T * scale), pT);
             return true;
         }
@@ -277,6 +349,20 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
             return false;
 #else
         return false;
+#endif
+#if SCENE_LOBES & LOBES_COAT
+    } else if (u1 >= 1.0f - b->coatProb) {
+        if (b->lobes & LOBE_DELTA_COAT) {
+            s->wi = v3(-wo.x, -wo.y, wo.z);
+            s->pdf = s->pdfRev = b->coatProb;
+            s->delta = true;
+            s->weight = v3s(b->coat * coat_fresnel(wo.z) / b->coatProb);
+            return true;
+        }
+        vec3 h = ggx_sample_visible(wo, b->coatAlpha, u2, u3);
+        s->wi = v3_sub(v3_scale(h, 2.0f * v3_dot(wo, h)), wo);
+        if (s->wi.z <= 0.0f)
+            return false;
 #endif
     } else {
         s->wi = sample_cosine_hemisphere(u2, u3);

@@ -125,7 +125,7 @@ INLINE float vertex_alpha(const RenderBuffers* b, int tri, vec2 bary)
 /* What material m is on triangle `tri` at barycentrics `bary`: its factors
  * times its vertex colours and textures there — the base-colour texture's
  * RGB, the metallic-roughness texture's B (metallic) and G (roughness), the
- * transmission texture's R. */
+ * transmission texture's R, the clear coat's R (weight) and G (roughness). */
 INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const Material* m, int tri, vec2 bary)
 {
     SurfaceMaterial s = material_factors(m);
@@ -142,6 +142,12 @@ INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const M
     }
     if (m->transmissionTexture > 0)
         s.transmission *= scene_texture(b, m->transmissionTexture, tri, bary).x;
+#if SCENE_LOBES & LOBES_COAT
+    if (m->clearcoatTexture > 0)
+        s.clearcoat *= scene_texture(b, m->clearcoatTexture, tri, bary).x;
+    if (m->clearcoatRoughnessTexture > 0)
+        s.clearcoatRoughness *= scene_texture(b, m->clearcoatRoughnessTexture, tri, bary).y;
+#endif
 #endif
     return s;
 }

@@ -54,7 +54,7 @@ __kernel void eval_bsdf(__global const Material* materials, __global const int4*
     vec3 f = bsdf_eval(&b, wo, from_float3(wis[i].xyz), setup.z != 0, &pdfFwd, &pdfRev);
     evalF[i] = (float4)(to_float3(f), pdfFwd);
     evalPdfRev[i] = pdfRev;
-    lobeProb[i] = (float4)(to_float3(b.lobeProb), b.eta);
+    lobeProb[i] = (float4)(to_float3(b.lobeProb), b.coatProb);
 }
 
 /* The forward pdf over one bin [θ0, θ0 + dθ] × [φ0, φ0 + dφ]: the midpoint
