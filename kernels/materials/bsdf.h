@@ -114,13 +114,14 @@ INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta, float coat,
     float tThrough = ((b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts) ? fmax(through, 0.1f) : through;
     float t = (b->lobes & LOBES_TRANSMIT) ? tThrough * luminance(b->transmitColor) : 0.0f;
     float d = (b->lobes & LOBE_DIFFUSE) ? through * luminance(b->diffuseColor) : 0.0f;
+    float sum = r + t + d;
 #if SCENE_LOBES & LOBES_COAT
     float c = coat * coat_fresnel(cosW);
-#else
-    float c = 0.0f;
-#endif
-    float sum = r + t + d + c;
+    sum += c;
     *coatProb = sum > 0.0f ? c / sum : 0.0f;
+#else
+    *coatProb = 0.0f; /* written out: a float + 0 or 0 / sum does not fold */
+#endif
     return sum > 0.0f ? v3(r / sum, t / sum, d / sum) : v3s(0.0f);
 }
 
@@ -187,8 +188,12 @@ INLINE float continuation_probability(const Bsdf* b)
 {
     vec3 albedo = v3_add(v3_add(v3_add(v3_scale(b->metalF0, b->metallic), b->specularTint), b->transmitColor),
                          b->diffuseColor);
+#if SCENE_LOBES & LOBES_COAT
     /* The coat's weight whichever side it is on, so that both sides agree. */
     return clamp(max_component(albedo) + fmax(b->coat, b->coatBack), 0.0f, 1.0f);
+#else
+    return clamp(max_component(albedo), 0.0f, 1.0f);
+#endif
 }
 
 /* False when the material has only delta lobes (in this scene): then no
@@ -201,7 +206,11 @@ INLINE bool material_has_nondelta(__global const Material* m)
 
 INLINE bool bsdf_is_black(const Bsdf* b)
 {
+#if SCENE_LOBES & LOBES_COAT
     return b->lobeProb.x + b->lobeProb.y + b->lobeProb.z + b->coatProb <= 0.0f;
+#else
+    return b->lobeProb.x + b->lobeProb.y + b->lobeProb.z <= 0.0f;
+#endif
 }
 
 /* Whether some lobe has a finite density, i.e. light sampling and
