@@ -10,6 +10,7 @@
 #include "render/SceneBuffers.h"
 #include "scene/GltfLoader.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -17,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include <unistd.h>
@@ -306,6 +308,52 @@ TEST_F(Textures, MetallicRoughnessTextureSelectsTheLobes)
         double reference = blockMean(m.image, size, size - block, y0, block, 0, &seM);
         EXPECT_NEAR(right, reference, 5 * std::sqrt(seT * seT + seM * seM) + 1e-4) << "metal column, row " << y0;
         EXPECT_LT(reference, 0.98 * L) << "a rough metal loses energy: the two columns must differ";
+    }
+}
+
+// EXT_texture_webp: a texture whose extension names a WebP image reads that
+// image (OpenImageIO decodes it), not its PNG fallback `source`: a uniform
+// 4 × 2 WebP against the 2 × 2 PNG. A lossy WebP keeps a uniform colour
+// within a few 8-bit codes (0.03 after sRGB decoding, with the codes' 2.2
+// power against the sRGB curve). An extension without
+// an integer source is an error naming it.
+TEST_F(Textures, WebpImageReplacesItsFallback)
+{
+    const float colour[3] = {0.5f, 0.25f, 0.75f};
+    { // writeImage writes no WebP: OpenImageIO directly, 8-bit sRGB codes
+        std::vector<unsigned char> codes(4 * 2 * 3);
+        for (size_t i = 0; i < codes.size(); ++i)
+            codes[i] = (unsigned char)std::lround(255 * std::pow(colour[i % 3], 1 / 2.2));
+        auto out = OIIO::ImageOutput::create((dir_ / "texture.webp").string());
+        ASSERT_TRUE(out) << "OpenImageIO writes no WebP here";
+        ASSERT_TRUE(out->open((dir_ / "texture.webp").string(), OIIO::ImageSpec(4, 2, 3, OIIO::TypeDesc::UINT8)));
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, codes.data()));
+        out->close();
+    }
+    auto withWebp = [&](const std::string& name, const json& extension) {
+        std::string path = writeQuad(name, {{"index", 0}}, json::object());
+        json g = json::parse(std::ifstream(path));
+        g["images"].push_back({{"uri", "texture.webp"}});
+        g["textures"][0]["extensions"]["EXT_texture_webp"] = extension;
+        g["extensionsUsed"].push_back("EXT_texture_webp");
+        std::ofstream(path) << g.dump();
+        return path;
+    };
+    Scene s = loadGltf(withWebp("webp", {{"source", 4}}));
+    for (const std::string& w : s.warnings) ADD_FAILURE() << w;
+    ASSERT_EQ(s.textures.size(), 1u);
+    const Texture& t = s.textures[0];
+    EXPECT_EQ(t.image.width, 4);
+    EXPECT_EQ(t.image.height, 2);
+    // The sRGB curve against the 2.2 power the codes were made with: within 0.01.
+    for (size_t i = 0; i < t.image.rgb.size(); ++i) EXPECT_NEAR(t.image.rgb[i], colour[i % 3], 0.03) << i;
+    EXPECT_FALSE(anyWarningContains(s, "EXT_texture_webp"));
+    try {
+        loadGltf(withWebp("webp-bad", {{"source", "texture.webp"}}));
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("EXT_texture_webp needs an integer source"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("webp-bad.gltf"), std::string::npos) << e.what();
     }
 }
 

@@ -201,7 +201,9 @@ Image decodeImage(const unsigned char* data, size_t size, const std::string& nam
     const char* format = nullptr;
     if (size >= 8 && std::memcmp(data, "\x89PNG\r\n\x1a\n", 8) == 0) format = "image.png";
     if (size >= 3 && data[0] == 0xFF && data[1] == 0xD8 && data[2] == 0xFF) format = "image.jpg";
-    if (!format) throw Error(name + ": not a PNG or JPEG image");
+    if (size >= 12 && std::memcmp(data, "RIFF", 4) == 0 && std::memcmp(data + 8, "WEBP", 4) == 0)
+        format = "image.webp"; // EXT_texture_webp
+    if (!format) throw Error(name + ": not a PNG, JPEG or WebP image");
 #ifndef WAVEVCM_HAVE_OIIO
     noImageLibrary(name);
 #else

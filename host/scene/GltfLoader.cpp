@@ -335,7 +335,7 @@ const std::set<std::string>& supportedExtensions()
     static const std::set<std::string> s = [] {
         std::set<std::string> names{"KHR_materials_emissive_strength", "KHR_materials_specular",
                                     "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
-                                    "KHR_materials_clearcoat", "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_texture_transform"};
+                                    "KHR_materials_clearcoat", "KHR_lights_punctual", "EXT_texture_webp", "KHR_mesh_quantization", "KHR_texture_transform"};
         if (dracoSupported()) names.insert("KHR_draco_mesh_compression");
         return names;
     }();
@@ -408,7 +408,14 @@ int Loader::sceneTexture(const tinygltf::TextureInfo& info, const std::string& m
     auto known = sceneTexture_.find({info.index, srgb, transform, texCoord});
     if (known != sceneTexture_.end()) return known->second;
     const tinygltf::Texture& t = model_.textures[size_t(info.index)];
+    // EXT_texture_webp names a WebP image, which OpenImageIO decodes, in place
+    // of `source` (then an optional fallback for viewers without WebP).
     int source = t.source;
+    if (const tinygltf::Value* webp = extension(t.extensions, "EXT_texture_webp")) {
+        if (!webp->Has("source") || !webp->Get("source").IsInt())
+            fail(what + ": EXT_texture_webp needs an integer source");
+        source = webp->Get("source").GetNumberAsInt();
+    }
     int result = 0;
     auto image = images_.images.find(source);
     if (source < 0 || size_t(source) >= model_.images.size()) {
