@@ -106,6 +106,7 @@ uint32_t loaderLobes(const Material& m)
     if (metalReflects || dielectricReflects) lobes |= smooth ? LOBE_DELTA_REFLECTION : LOBE_GGX_REFLECTION;
     if (transmits) lobes |= smooth ? LOBE_DELTA_TRANSMISSION : LOBE_GGX_TRANSMISSION;
     if (m.clearcoat > 0) lobes |= m.clearcoatRoughness * m.clearcoatRoughness < 1e-3f ? LOBE_DELTA_COAT : LOBE_GGX_COAT;
+    if (maxOf(m.sheenColor) > 0) lobes |= LOBE_SHEEN;
     return lobes;
 }
 
@@ -136,6 +137,15 @@ Material coated(Material m, float coat, float coatRoughness)
     return m;
 }
 
+// m under a sheen (KHR_materials_sheen) of colour `colour`.
+Material sheened(Material m, std::array<float, 3> colour, float roughness)
+{
+    for (int c = 0; c < 3; ++c) m.sheenColor[c] = colour[size_t(c)];
+    m.sheenRoughness = roughness;
+    m.lobes = loaderLobes(m);
+    return m;
+}
+
 const double kIor = 1.5;
 
 // Index into materials(); the White variants have base colour 1.
@@ -144,6 +154,7 @@ enum MaterialId {
     WhiteLambert, WhiteRoughMetal, WhiteSmootherMetal, WhitePlastic, WhiteSmoothPlastic, WhiteMirror,
     CoatedLambert, CoatedMetal, CoatedSmoothPlastic, CoatedRoughGlass, CoatedSmoothGlass, CoatedBlack,
     WhiteCoatedLambert, WhiteCoatedMetal,
+    SheenLambert, SheenCoatedPlastic, SheenRoughGlass, SheenBlack, LowSheenBlack, WhiteSheenLambert, WhiteSheenMetal,
 };
 
 std::vector<Material> materials()
@@ -174,6 +185,14 @@ std::vector<Material> materials()
         coated(makeMaterial(grey(0), 0, 1, 0), 0.5f, 0),                   // CoatedBlack: the coat alone
         coated(makeMaterial(grey(1), 0, 1, 0), 1, 0.3f),                   // WhiteCoatedLambert
         coated(makeMaterial(grey(1), 1, 0.5f, 1), 1, 0.1f),                // WhiteCoatedMetal
+        // sheen colour, sheen roughness
+        sheened(makeMaterial(grey(0.5f), 0, 1, 0), {0.9f, 0.6f, 0.3f}, 0.5f),                   // SheenLambert
+        coated(sheened(makeMaterial(grey(0.6f), 0, 0.4f, 1), grey(0.8f), 0.3f), 0.5f, 0.2f),   // SheenCoatedPlastic
+        sheened(makeMaterial(grey(1), 0, 0.3f, 1, 1, false), grey(0.5f), 0.6f),                // SheenRoughGlass
+        sheened(makeMaterial(grey(0), 0, 1, 0), grey(1), 0.5f),                                // SheenBlack
+        sheened(makeMaterial(grey(0), 0, 1, 0), grey(1), 0.1f),                                // LowSheenBlack
+        sheened(makeMaterial(grey(1), 0, 1, 0), grey(1), 0.3f),                                // WhiteSheenLambert
+        sheened(makeMaterial(grey(1), 1, 0.5f, 1), grey(1), 1.0f),                             // WhiteSheenMetal
     };
 }
 
@@ -197,6 +216,9 @@ TEST(BsdfMaterials, HaveTheIntendedLobes)
     EXPECT_EQ(m[CoatedRoughGlass].lobes, LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT);
     EXPECT_EQ(m[CoatedSmoothGlass].lobes, LOBE_DELTA_REFLECTION | LOBE_DELTA_TRANSMISSION | LOBE_DELTA_COAT);
     EXPECT_EQ(m[CoatedBlack].lobes, LOBE_DELTA_COAT);
+    EXPECT_EQ(m[SheenLambert].lobes, LOBE_DIFFUSE | LOBE_SHEEN);
+    EXPECT_EQ(m[SheenCoatedPlastic].lobes, LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_SHEEN | LOBE_GGX_COAT);
+    EXPECT_EQ(m[SheenBlack].lobes, LOBE_SHEEN);
 }
 
 // A BSDF set-up: which material, which side wo is on, which transport mode.
@@ -228,6 +250,11 @@ const Case kNonDeltaCases[] = {
     {"coated smooth plastic", CoatedSmoothPlastic, true},
     {"coated rough glass outside", CoatedRoughGlass, true},
     {"coated rough glass inside", CoatedRoughGlass, false},
+    {"sheen over Lambert", SheenLambert, true},
+    {"sheen over plastic, coated", SheenCoatedPlastic, true},
+    {"sheen over rough glass outside", SheenRoughGlass, true},
+    {"sheen over rough glass inside", SheenRoughGlass, false},
+    {"low-roughness sheen alone", LowSheenBlack, true},
 };
 
 std::string describe(const Case& c, double cosTheta)
@@ -247,7 +274,7 @@ struct Samples {
 };
 
 struct Evals {
-    std::vector<Float4> f, lobeProb; // f.w: forward pdf; lobeProb.w: the coat's
+    std::vector<Float4> f, lobeProb; // f.w: forward pdf; lobeProb: see lobeProb()
     std::vector<float> pdfRev;
 };
 
@@ -255,7 +282,7 @@ class BsdfKernels {
 public:
     BsdfKernels()
         : device_(test::devicesUnderTest().front()),
-          program_(test::buildTestProgram(device_, {test::testKernel("bsdf_tests.cl")}, "-DSCENE_LOBES=127u")),
+          program_(test::buildTestProgram(device_, {test::testKernel("bsdf_tests.cl")}, "-DSCENE_LOBES=255u")),
           materials_(materials()),
           materialBuffer_(uploadBuffer(device_, materials_.data(), materials_.size() * sizeof(Material), "materials"))
     {
@@ -306,8 +333,21 @@ public:
         return out;
     }
 
-    // Lobe probabilities (x: reflection, y: transmission, z: diffuse, w: coat) at wo.
+    // Lobe probabilities (x: reflection, y: transmission, z: diffuse and sheen, w: coat) at wo.
     Float4 lobeProb(BsdfSetup setup, D3 wo) { return eval({setup}, {wo}, {wo}).lobeProb[0]; }
+
+    // The sheen's tabulated albedo E(cos θ, r) (materials/sheen.h).
+    float sheenAlbedo(float roughness, float cosTheta)
+    {
+        std::vector<std::array<float, 2>> in{{roughness, cosTheta}};
+        cl::Buffer a = upload(in), out = output(4);
+        cl::Kernel k(program_, "sheen_albedo_lookup");
+        setArgs(k, a, 1, out);
+        launch(k, 1);
+        std::vector<float> e;
+        read(out, e, 1);
+        return e[0];
+    }
 
     // ∫ pdf over each bin of the (θ, φ) grid, index θ-bin × kPhiBins + φ-bin.
     static constexpr int kThetaBins = 20, kPhiBins = 40;
@@ -496,12 +536,12 @@ TEST_F(Bsdf, PdfIntegratesToAtMostOne)
             Float4 p = kernels().lobeProb(setup, wo);
             uint32_t lobes = kernels().material(c.material).lobes;
             double nonDelta = (lobes & LOBE_GGX_REFLECTION ? p[0] : 0) + (lobes & LOBE_GGX_TRANSMISSION ? p[1] : 0) +
-                              (lobes & LOBE_DIFFUSE ? p[2] : 0) + (lobes & LOBE_GGX_COAT ? p[3] : 0);
+                              (lobes & (LOBE_DIFFUSE | LOBE_SHEEN) ? p[2] : 0) + (lobes & LOBE_GGX_COAT ? p[3] : 0);
             EXPECT_NEAR(p[0] + p[1] + p[2] + p[3], 1, 1e-6) << "lobe probabilities";
             EXPECT_LE(total, 1 + tol);
             EXPECT_LE(total, nonDelta + tol) << "∫ pdf exceeds the non-delta lobes' probability";
             if (!(lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT))) {
-                EXPECT_NEAR(total, nonDelta, tol) << "a diffuse lobe loses no samples";
+                EXPECT_NEAR(total, nonDelta, tol) << "cosine-sampled lobes lose no samples";
             }
         }
 }
@@ -510,7 +550,9 @@ TEST_F(Bsdf, PdfIntegratesToAtMostOne)
 
 // The sample's pdf is the forward pdf of bsdf_eval at the same pair and its
 // weight is f·|cos θi|/pdf: both are float computations of the same
-// expression, so 1e-4 relative only allows for rounding.
+// expression, so 1e-4 relative only allows for rounding (and 1e-30 absolute
+// for denormals: a low-roughness sheen's fibres reflect ~1e-43 away from
+// the horizon).
 TEST_F(Bsdf, SampleAgreesWithEval)
 {
     uint32_t seed = 100;
@@ -527,7 +569,7 @@ TEST_F(Bsdf, SampleAgreesWithEval)
                     bool ok = pdf > 0 && closeRel(pdf, evalPdf, 1e-4) && std::abs(len(s.wi(i)) - 1) < 1e-5;
                     for (int ch = 0; ch < 3; ++ch)
                         ok = ok && closeRel(s.weightStatus[i][ch], s.evalF[i][ch] * std::abs(s.wi(i).z) / evalPdf,
-                                            1e-4);
+                                            1e-4, 1e-30);
                     if (!ok && bad++ < 3)
                         ADD_FAILURE() << "sample " << i << ": pdf " << pdf << " eval pdf " << evalPdf << ", weight "
                                       << s.weightStatus[i][0] << " f·cos/pdf "
@@ -611,6 +653,10 @@ TEST_F(Bsdf, Reciprocity)
         {"coated smooth plastic", CoatedSmoothPlastic, true},
         {"coated rough glass outside", CoatedRoughGlass, true},
         {"coated rough glass inside", CoatedRoughGlass, false},
+        {"sheen over Lambert", SheenLambert, true},
+        {"sheen over plastic, coated", SheenCoatedPlastic, true},
+        {"sheen over rough glass outside", SheenRoughGlass, true},
+        {"sheen over rough glass inside", SheenRoughGlass, false},
     };
     uint32_t seed = 300;
     for (const Case& c : cases)
@@ -690,6 +736,8 @@ TEST_F(Bsdf, WhiteMaterialsConserveEnergy)
         {"coated rough glass inside", CoatedRoughGlass, false},
         {"coated smooth glass outside", CoatedSmoothGlass, true},
         {"coated smooth glass inside", CoatedSmoothGlass, false},
+        {"white sheen over white Lambert", WhiteSheenLambert, true},
+        {"white sheen over white metal", WhiteSheenMetal, true},
     };
     const size_t n = 50000;
     uint32_t seed = 400;
@@ -783,6 +831,28 @@ TEST_F(Bsdf, SmoothCoatReflectsWithSchlickFresnel)
             }
         EXPECT_GT(transmitted, 0);
     }
+}
+
+// The sheen's albedo table is the lobe's albedo: over black (the sheen
+// alone, white), the mean sample weight at each wo (adjoint: flux out per
+// flux in) is the tabulated E(cos θo, r) within 4 standard errors plus 0.01
+// for the tables' bilinear interpolation (P's and E's). This is what makes
+// glTF's albedo scaling of the lobes beneath conserve energy; a table of
+// another roughness or with the shadowing left out is off by 0.05–5.
+TEST_F(Bsdf, SheenAlbedoMatchesItsTable)
+{
+    uint32_t seed = 800;
+    for (int id : {SheenBlack, LowSheenBlack})
+        for (double cosTheta : kCosines) {
+            float r = kernels().material(id).sheenRoughness;
+            SCOPED_TRACE("r = " + std::to_string(r) + ", cos θo = " + std::to_string(cosTheta));
+            Samples s = kernels().sample({id, true, true}, woAt(cosTheta), 200000, seed++);
+            double mean, se;
+            meanWeight(s, &mean, &se);
+            double table = kernels().sheenAlbedo(r, float(cosTheta));
+            EXPECT_NEAR(mean, table, 4 * se + 0.01) << "albedo " << mean << " ± " << se << ", table " << table;
+            EXPECT_LE(table, 1.0);
+        }
 }
 
 // Smooth glass picks reflection with probability F (exact Fresnel, computed

@@ -790,6 +790,25 @@ TEST_F(GltfLoader, MaterialClearcoatNormalTextureWarns)
     EXPECT_TRUE(s.features().lobes & LOBE_DELTA_COAT);
 }
 
+// KHR_materials_sheen: the colour and roughness (defaults black and 0), a
+// sheen lobe for a colour that is not black, none for black.
+TEST_F(GltfLoader, MaterialSheen)
+{
+    auto sheened = [&](json sheen) {
+        return loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+                             {"extensions", {{"KHR_materials_sheen", sheen}}}});
+    };
+    Material m = sheened({{"sheenColorFactor", {0.5, 0.25, 2.0}}, {"sheenRoughnessFactor", 0.3}});
+    EXPECT_FLOAT_EQ(m.sheenColor[0], 0.5f);
+    EXPECT_FLOAT_EQ(m.sheenColor[1], 0.25f);
+    EXPECT_FLOAT_EQ(m.sheenColor[2], 1.0f) << "clamped to 1";
+    EXPECT_FLOAT_EQ(m.sheenRoughness, 0.3f);
+    EXPECT_EQ(m.lobes, LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_SHEEN);
+    Material black = sheened({{"sheenRoughnessFactor", 0.3}});
+    EXPECT_EQ(black.sheenColor[0], 0.0f);
+    EXPECT_EQ(black.lobes, LOBE_DIFFUSE | LOBE_GGX_REFLECTION);
+}
+
 TEST_F(GltfLoader, MaterialIor1GlassHasNoReflection)
 {
     // An interface of ior 1 reflects nothing: only the transmission lobe.
@@ -1746,9 +1765,9 @@ TEST_F(GltfLoader, RequiredUnsupportedExtensionThrows)
 TEST_F(GltfLoader, UsedUnsupportedExtensionWarns)
 {
     GltfBuilder b = oneTriangle();
-    b.j["extensionsUsed"] = {"KHR_materials_sheen"};
+    b.j["extensionsUsed"] = {"KHR_materials_iridescence"};
     Scene s = load(b);
-    EXPECT_TRUE(anyWarningContains(s, "KHR_materials_sheen"));
+    EXPECT_TRUE(anyWarningContains(s, "KHR_materials_iridescence"));
 }
 
 TEST_F(GltfLoader, NodeCycleThrows)

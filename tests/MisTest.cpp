@@ -70,8 +70,9 @@ int expectedTechniques(int k, int mirror, bool deltaLight)
 // delta lobe beside the diffuse one, which connections and merges use); and
 // the same two under KHR_materials_clearcoat's coat, rough (a fourth lobe
 // with its own Fresnel-weighted probability) and smooth (a delta lobe above
-// the GGX one).
-enum class Surface { Lambert, RoughLayer, RoughMetal, SmoothCoat, RoughClearcoat, SmoothClearcoat };
+// the GGX one); and a rough layer under KHR_materials_sheen's fibres (a
+// lobe sampled as diffuse is, whose probability follows its albedo table).
+enum class Surface { Lambert, RoughLayer, RoughMetal, SmoothCoat, RoughClearcoat, SmoothClearcoat, Sheen };
 
 Material surfaceMaterial(Surface kind)
 {
@@ -112,6 +113,13 @@ Material surfaceMaterial(Surface kind)
         m.clearcoat = 0.8f;
         m.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_DELTA_COAT;
         break;
+    case Surface::Sheen:
+        m.specular = 1;
+        m.roughness = 0.4f;
+        for (int c = 0; c < 3; ++c) m.sheenColor[c] = 0.3f + 0.3f * float(c);
+        m.sheenRoughness = 0.4f;
+        m.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_SHEEN;
+        break;
     }
     return m;
 }
@@ -127,7 +135,7 @@ void expectWeightsSumToOne(int lightType, bool withMirror, Surface kind = Surfac
     SceneBuffers buffers(device, scene, bvh, table);
     cl::Program program = test::buildTestProgram(
         device, {test::testKernel("mis_tests.cl")},
-        "-DSCENE_LOBES=127u -DHAS_POINT_LIGHTS -DHAS_DIRECTIONAL_LIGHTS -DHAS_BACKGROUND" +
+        "-DSCENE_LOBES=255u -DHAS_POINT_LIGHTS -DHAS_DIRECTIONAL_LIGHTS -DHAS_BACKGROUND" +
             lightSelectOption(table.info.lightCount));
     cl::Buffer material = uploadBuffer(device, &surface, sizeof surface, "material");
     const bool deltaLight = lightType == LIGHT_POINT || lightType == LIGHT_DIRECTIONAL;
@@ -253,7 +261,7 @@ TEST(Mis, WeightsSumToOneForAPointLight)
 TEST(Mis, WeightsSumToOneOnGlossySurfaces)
 {
     for (Surface kind : {Surface::RoughLayer, Surface::RoughMetal, Surface::SmoothCoat, Surface::RoughClearcoat,
-                         Surface::SmoothClearcoat}) {
+                         Surface::SmoothClearcoat, Surface::Sheen}) {
         SCOPED_TRACE("surface " + std::to_string(int(kind)));
         expectWeightsSumToOne(LIGHT_TRIANGLE, false, kind);
         expectWeightsSumToOne(LIGHT_BACKGROUND, true, kind);

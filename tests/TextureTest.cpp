@@ -64,6 +64,10 @@ protected:
                 coat.rgb[3 * size_t(2 * y + x) + 1] = float(1 - y);
             }
         writeImage((dir_ / "coat.png").string(), coat);
+        // Alpha data (the sheen's roughness): 1 in the left column, 64/255 in the right.
+        Image alpha(2, 2);
+        alpha.alpha = {1, 64 / 255.0f, 1, 64 / 255.0f};
+        writeImage((dir_ / "alpha.png").string(), alpha);
     }
     void TearDown() override { fs::remove_all(dir_); }
 
@@ -74,7 +78,8 @@ protected:
     }
 
     // The same with the material's pbrMetallicRoughness given whole; texture
-    // 0 is texture.png, texture 1 mr.png, texture 2 transmission.png, texture 3 coat.png; more
+    // 0 is texture.png, texture 1 mr.png, texture 2 transmission.png, texture 3 coat.png,
+    // texture 4 alpha.png; more
     // material extensions (KHR_materials_*) in `extensions`.
     std::string writeQuadWith(const std::string& name, const json& pbr, const json& sampler, bool uvs = true,
                               json extensions = json::object())
@@ -83,8 +88,9 @@ protected:
         // Pure Lambert (no specular layer): under a uniform background it reflects base colour × L.
         extensions["KHR_materials_specular"] = {{"specularFactor", 0.0}};
         quad.material = {{"pbrMetallicRoughness", pbr}, {"extensions", extensions}};
-        quad.extensionsUsed = {"KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_clearcoat"};
-        quad.images = {"texture.png", "mr.png", "transmission.png", "coat.png"};
+        quad.extensionsUsed = {"KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_clearcoat",
+                               "KHR_materials_sheen"};
+        quad.images = {"texture.png", "mr.png", "transmission.png", "coat.png", "alpha.png"};
         quad.sampler = sampler;
         quad.uvs = uvs;
         return test::writeQuad(dir_, name, quad);
@@ -334,12 +340,14 @@ TEST_F(Textures, WebpImageReplacesItsFallback)
         std::string path = writeQuad(name, {{"index", 0}}, json::object());
         json g = json::parse(std::ifstream(path));
         g["images"].push_back({{"uri", "texture.webp"}});
-        g["textures"][0]["extensions"]["EXT_texture_webp"] = extension;
+        json e = extension;
+        if (e["source"].is_null()) e["source"] = g["images"].size() - 1; // the WebP image
+        g["textures"][0]["extensions"]["EXT_texture_webp"] = e;
         g["extensionsUsed"].push_back("EXT_texture_webp");
         std::ofstream(path) << g.dump();
         return path;
     };
-    Scene s = loadGltf(withWebp("webp", {{"source", 4}}));
+    Scene s = loadGltf(withWebp("webp", json::object()));
     for (const std::string& w : s.warnings) ADD_FAILURE() << w;
     ASSERT_EQ(s.textures.size(), 1u);
     const Texture& t = s.textures[0];
@@ -449,6 +457,60 @@ TEST_F(Textures, ClearcoatTexturesScaleWeightAndRoughness)
     EXPECT_LT(blockMean(t.image, size, size - block, size - block, block, 0, &se), 0.02 * glow) << "bottom right";
     EXPECT_EQ(blockMean(t.image, size, 0, 0, block, 0, &se), 0.0) << "top left";
     EXPECT_EQ(blockMean(t.image, size, 0, size - block, block, 0, &se), 0.0) << "bottom left";
+}
+
+// The sheen's textures (KHR_materials_sheen): sheenColorTexture's RGB
+// (sRGB-decoded) times sheenColorFactor, sheenRoughnessTexture's alpha times
+// sheenRoughnessFactor. A black quad (only the sheen reflects) under a
+// uniform white background. Coloured by coat.png (corners green, yellow,
+// black, red): each channel of each corner is 0 or the untextured white
+// sheen's at the same seed (the same lobe, picked with probability 1, and
+// the same random numbers: 1e-3 relative). Roughened by alpha.png (1 left,
+// 64/255 right): the right column is the untextured sheen of roughness
+// 64/255, the left the untextured one of roughness 1, which differ by more
+// than 20 % seen head-on.
+TEST_F(Textures, SheenTexturesScaleColourAndRoughness)
+{
+    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
+    json pbr = {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}};
+    auto quad = [&](const std::string& name, float roughness, const char* texture, int index) {
+        json sheen = {{"sheenColorFactor", {1, 1, 1}}, {"sheenRoughnessFactor", roughness}};
+        if (texture) sheen[texture] = {{"index", index}};
+        Scene s = loadGltf(writeQuadWith(name, pbr, clamp, true, {{"KHR_materials_sheen", sheen}}));
+        s.background = {1, 1, 1};
+        return s;
+    };
+    const int size = 32, block = 8, iterations = 16;
+    DeviceInfo device = test::devicesUnderTest()[0];
+    auto render = [&](const Scene& s) { return test::render(device, s, Algorithm::PathTracing, size, size, iterations, 9).image; };
+    Scene coloured = quad("sheen-coloured", 1.0f, "sheenColorTexture", 3);
+    Scene roughened = quad("sheen-roughened", 1.0f, "sheenRoughnessTexture", 4);
+    ASSERT_EQ(coloured.materials.at(0).sheenColorTexture, 1);
+    ASSERT_EQ(roughened.materials.at(0).sheenRoughnessTexture, 1);
+    EXPECT_EQ(coloured.materials.at(0).lobes, LOBE_SHEEN);
+    Image c = render(coloured), r = render(roughened), rough = render(quad("sheen-rough", 1.0f, nullptr, 0)),
+          smooth = render(quad("sheen-smooth", 64 / 255.0f, nullptr, 0));
+    double se;
+    const int right = size - block, bottom = size - block;
+    // corner (x0, y0): which channels the texture keeps
+    const std::array<std::array<int, 3>, 4> corners{{{0, 0, 0}, {right, 0, 0}, {0, bottom, 0}, {right, bottom, 0}}};
+    const bool keeps[4][3] = {{false, true, false}, {true, true, false}, {false, false, false}, {true, false, false}};
+    for (int k = 0; k < 4; ++k)
+        for (int ch = 0; ch < 3; ++ch) {
+            double got = blockMean(c, size, corners[k][0], corners[k][1], block, ch, &se);
+            double white = blockMean(rough, size, corners[k][0], corners[k][1], block, ch, &se);
+            EXPECT_GT(white, 0.02) << "the white sheen reflects the background";
+            EXPECT_NEAR(got, keeps[k][ch] ? white : 0.0, 1e-3 * white) << "corner " << k << " channel " << ch;
+        }
+    for (int y0 : {0, bottom}) {
+        double left = blockMean(r, size, 0, y0, block, 1, &se), rightBlock = blockMean(r, size, right, y0, block, 1, &se);
+        double roughLeft = blockMean(rough, size, 0, y0, block, 1, &se);
+        double smoothRight = blockMean(smooth, size, right, y0, block, 1, &se);
+        EXPECT_NEAR(left, roughLeft, 1e-3 * roughLeft) << "row " << y0;
+        EXPECT_NEAR(rightBlock, smoothRight, 1e-3 * smoothRight) << "row " << y0;
+        EXPECT_GT(std::abs(roughLeft - blockMean(smooth, size, 0, y0, block, 1, &se)), 0.2 * roughLeft)
+            << "the two roughnesses must differ";
+    }
 }
 
 // TEXCOORD_1: the base-colour texture read through the second set, which

@@ -65,7 +65,7 @@ std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeature
     // at their first non-delta hit; pt's shade 1.09x. Without GGX all gain. lt's camera paths do next to
     // nothing (in SIMD, while its scalar shade_light also lost its per-item pushes, lt ran 0.95-0.96x).
     bool simdShading = vectorizesShading(device);
-    bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT)) != 0;
+    bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT | LOBE_SHEEN)) != 0;
     bool cameraWork = algorithm != Algorithm::ProgressivePhotonMapping && algorithm != Algorithm::LightTracing;
     bool simdCamera = simdShading && (!ggx || cameraWork);
     bool simdLight = simdShading && !ggx;

@@ -335,7 +335,8 @@ const std::set<std::string>& supportedExtensions()
     static const std::set<std::string> s = [] {
         std::set<std::string> names{"KHR_materials_emissive_strength", "KHR_materials_specular",
                                     "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
-                                    "KHR_materials_clearcoat", "KHR_lights_punctual", "EXT_texture_webp", "KHR_mesh_quantization", "KHR_texture_transform"};
+                                    "KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_lights_punctual",
+                                    "EXT_texture_webp", "KHR_mesh_quantization", "KHR_texture_transform"};
         if (dracoSupported()) names.insert("KHR_draco_mesh_compression");
         return names;
     }();
@@ -509,7 +510,7 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     // An extension's texture reference is plain JSON to tinygltf: its texture
     // (linear data), or 0 where it has none.
     auto extensionTexture = [&](const tinygltf::Value& e, const char* extensionName, const char* key,
-                                const char* kind) {
+                                const char* kind, bool srgb = false) {
         if (!e.Has(key)) return 0;
         const tinygltf::Value& t = e.Get(key);
         if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsInt())
@@ -519,12 +520,23 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
         info.texCoord = t.Has("texCoord") && t.Get("texCoord").IsInt() ? t.Get("texCoord").GetNumberAsInt() : 0;
         if (t.Has("extensions") && t.Get("extensions").IsObject())
             for (const std::string& k : t.Get("extensions").Keys()) info.extensions[k] = t.Get("extensions").Get(k);
-        return sceneTexture(info, name, kind, false);
+        return sceneTexture(info, name, kind, srgb);
     };
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_transmission")) {
         out.transmission = clamp01(number(*e, "transmissionFactor", 0.0));
         out.transmissionTexture =
             extensionTexture(*e, "KHR_materials_transmission", "transmissionTexture", "transmission");
+    }
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_sheen")) {
+        if (e->Has("sheenColorFactor") && e->Get("sheenColorFactor").IsArray() &&
+            e->Get("sheenColorFactor").ArrayLen() == 3)
+            for (int c = 0; c < 3; ++c) out.sheenColor[c] = clamp01(e->Get("sheenColorFactor").Get(c).GetNumberAsDouble());
+        out.sheenRoughness = clamp01(number(*e, "sheenRoughnessFactor", 0.0));
+        if (std::max({out.sheenColor[0], out.sheenColor[1], out.sheenColor[2]}) > 0) {
+            out.sheenColorTexture = extensionTexture(*e, "KHR_materials_sheen", "sheenColorTexture", "sheen colour", true);
+            out.sheenRoughnessTexture =
+                extensionTexture(*e, "KHR_materials_sheen", "sheenRoughnessTexture", "sheen roughness");
+        }
     }
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_clearcoat")) {
         out.clearcoat = clamp01(number(*e, "clearcoatFactor", 0.0));
@@ -570,6 +582,7 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     if (transmits) out.lobes |= smooth ? LOBE_DELTA_TRANSMISSION : LOBE_GGX_TRANSMISSION;
     if (out.clearcoat > 0)
         out.lobes |= out.clearcoatRoughness * out.clearcoatRoughness < 1e-3f ? LOBE_DELTA_COAT : LOBE_GGX_COAT;
+    if (maxOf(out.sheenColor) > 0) out.lobes |= LOBE_SHEEN;
     return out;
 }
 

@@ -88,10 +88,11 @@ typedef struct Camera {
 #define LOBE_DELTA_TRANSMISSION 16u
 #define LOBE_GGX_COAT 32u   /* KHR_materials_clearcoat: a GGX reflection on top of the others */
 #define LOBE_DELTA_COAT 64u /* the same, smooth */
-#define LOBES_ALL 127u
+#define LOBE_SHEEN 128u     /* KHR_materials_sheen: fibres over the diffuse and reflection lobes */
+#define LOBES_ALL 255u
 
 /* The glTF metallic-roughness model with KHR_materials_specular,
- * _transmission, _ior, _volume, _clearcoat and _emissive_strength folded in;
+ * _transmission, _ior, _volume, _clearcoat, _sheen and _emissive_strength folded in;
  * see docs/scenes.md, "Materials", for the mapping. */
 typedef struct Material {
     float baseColor[3];
@@ -120,7 +121,10 @@ typedef struct Material {
     float clearcoatRoughness;  /* clearcoatRoughnessFactor; the coat's GGX alpha = this² */
     int clearcoatTexture;      /* 1 + its index in the texture table; its R scales clearcoat */
     int clearcoatRoughnessTexture; /* the same; its G scales clearcoatRoughness */
-    int pad[2];
+    float sheenColor[3];       /* KHR_materials_sheen sheenColorFactor; black: no sheen */
+    float sheenRoughness;      /* sheenRoughnessFactor; the fibres' alpha = this² (materials/sheen.h) */
+    int sheenColorTexture;     /* 1 + its index in the texture table; its RGB (sRGB-decoded) scales sheenColor */
+    int sheenRoughnessTexture; /* the same; its alpha scales sheenRoughness */
 } Material;
 
 /* glTF alphaMode. */

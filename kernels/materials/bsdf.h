@@ -1,6 +1,7 @@
-/* The BSDF of a glTF material (docs/scenes.md): up to four lobes —
+/* The BSDF of a glTF material (docs/scenes.md): up to five lobes —
  * reflection (metal plus the dielectric specular layer; GGX or smooth),
- * transmission (GGX or smooth), Lambert diffuse, and a clear coat over them
+ * transmission (GGX or smooth), Lambert diffuse, a sheen of fibres over them
+ * (KHR_materials_sheen, materials/sheen.h) and a clear coat over all
  * (KHR_materials_clearcoat; GGX or smooth) — with lobes the scene lacks
  * compiled out through SCENE_LOBES.
  *
@@ -26,6 +27,10 @@
 #define LOBES_TRANSMIT (LOBE_GGX_TRANSMISSION | LOBE_DELTA_TRANSMISSION)
 #define LOBES_COAT (LOBE_GGX_COAT | LOBE_DELTA_COAT)
 
+#if SCENE_LOBES & LOBE_SHEEN
+#include "materials/sheen.h"
+#endif
+
 typedef struct Bsdf {
     uint lobes;
     float alpha;          /* GGX α = roughness² */
@@ -40,8 +45,13 @@ typedef struct Bsdf {
     float coat;         /* the clear coat's weight on wo's side (0: none there) */
     float coatBack;     /* the same on the other side, which transmission crosses */
     float coatAlpha;    /* the coat's GGX α */
+    vec3 sheenColor;    /* KHR_materials_sheen's colour */
+    float sheenRoughness;
+    float sheen;        /* max(sheenColor) on wo's side (0: no sheen there) */
+    float sheenBack;    /* the same on the other side */
     vec3 lobeProb;      /* probabilities of picking reflection, transmission, diffuse at wo */
-    float coatProb;     /* that of picking the coat; the four sum to 1 */
+    float coatProb;     /* that of picking the coat */
+    float sheenProb;    /* that of picking the sheen; the five sum to 1 */
 } Bsdf;
 
 typedef struct BsdfSample {
@@ -99,14 +109,37 @@ INLINE float coat_through(float coat, float cosW)
 #endif
 }
 
-/* Lobe selection probabilities for a path arriving from direction w
- * (cos θ = cosW > 0, relative index eta, coat weight `coat` on w's side),
- * proportional to each lobe's albedo estimate there: reflection,
- * transmission, diffuse, and the coat's in *coatProb. */
-INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta, float coat, float* coatProb)
+/* The sheen (KHR_materials_sheen) over the lobes beneath it: they are
+ * scaled by 1 − s · E at each direction, E the sheen's directional albedo and
+ * s = max(sheenColor) on that side, so that sheen and lobes beneath reflect
+ * at most what arrives (glTF's albedo scaling, at both directions as for the
+ * coat). */
+INLINE float sheen_through(const Bsdf* b, float sheen, float cosW)
 {
-    float through = layer_transmittance(b, cosW, eta) * coat_through(coat, cosW);
-    float r = (b->lobes & LOBES_REFLECT) ? coat_through(coat, cosW) * luminance(reflectance(b, cosW, eta)) : 0.0f;
+#if SCENE_LOBES & LOBE_SHEEN
+    return 1.0f - sheen * sheen_albedo(b->sheenRoughness, fabs(cosW));
+#else
+    return 1.0f;
+#endif
+}
+
+/* What the coat and the sheen let through to the lobes beneath at cos θ =
+ * cosW, on wo's side or (back) the other. */
+INLINE float layers_through(const Bsdf* b, bool back, float cosW)
+{
+    return coat_through(back ? b->coatBack : b->coat, cosW) * sheen_through(b, back ? b->sheenBack : b->sheen, cosW);
+}
+
+/* Lobe selection probabilities for a path arriving from direction w
+ * (cos θ = cosW > 0, relative index eta, on wo's side or, back, the other),
+ * proportional to each lobe's albedo estimate there: reflection,
+ * transmission, diffuse, and the coat's and the sheen's in *coatProb and
+ * *sheenProb. */
+INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta, bool back, float* coatProb, float* sheenProb)
+{
+    float layers = layers_through(b, back, cosW);
+    float through = layer_transmittance(b, cosW, eta) * layers;
+    float r = (b->lobes & LOBES_REFLECT) ? layers * luminance(reflectance(b, cosW, eta)) : 0.0f;
     /* Rough refraction keeps a floor: microfacets tilted towards w refract
      * even where the macro-surface reflects totally (through = 0 beyond the
      * critical angle), and a zero probability would zero its f and pdfs
@@ -115,12 +148,25 @@ INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta, float coat,
     float t = (b->lobes & LOBES_TRANSMIT) ? tThrough * luminance(b->transmitColor) : 0.0f;
     float d = (b->lobes & LOBE_DIFFUSE) ? through * luminance(b->diffuseColor) : 0.0f;
     float sum = r + t + d;
+    /* Written out, not left at 0 to fold: a float + 0 or 0 / sum does not. */
+#if SCENE_LOBES & LOBE_SHEEN
+    float sh = (back ? b->sheenBack : b->sheen) > 0.0f
+                   ? coat_through(back ? b->coatBack : b->coat, cosW) * luminance(b->sheenColor) *
+                         sheen_albedo(b->sheenRoughness, cosW)
+                   : 0.0f;
+    sum += sh;
+#endif
 #if SCENE_LOBES & LOBES_COAT
-    float c = coat * coat_fresnel(cosW);
+    float c = (back ? b->coatBack : b->coat) * coat_fresnel(cosW);
     sum += c;
     *coatProb = sum > 0.0f ? c / sum : 0.0f;
 #else
-    *coatProb = 0.0f; /* written out: a float + 0 or 0 / sum does not fold */
+    *coatProb = 0.0f;
+#endif
+#if SCENE_LOBES & LOBE_SHEEN
+    *sheenProb = sum > 0.0f ? sh / sum : 0.0f;
+#else
+    *sheenProb = 0.0f;
 #endif
     return sum > 0.0f ? v3(r / sum, t / sum, d / sum) : v3s(0.0f);
 }
@@ -131,6 +177,8 @@ typedef struct SurfaceMaterial {
     vec3 baseColor;
     float metallic, roughness, transmission;
     float clearcoat, clearcoatRoughness;
+    vec3 sheenColor;
+    float sheenRoughness;
 } SurfaceMaterial;
 
 /* The factors alone (untextured). */
@@ -143,6 +191,8 @@ INLINE SurfaceMaterial material_factors(__global const Material* m)
     s.transmission = m->transmission;
     s.clearcoat = m->clearcoat;
     s.clearcoatRoughness = m->clearcoatRoughness;
+    s.sheenColor = load3(m->sheenColor);
+    s.sheenRoughness = m->sheenRoughness;
     return s;
 }
 
@@ -176,7 +226,19 @@ INLINE Bsdf make_bsdf(__global const Material* m, const SurfaceMaterial* at, vec
     b.coat = b.coatBack = 0.0f;
     b.coatAlpha = 1.0f;
 #endif
-    b.lobeProb = lobe_probabilities(&b, wo.z, b.eta, b.coat, &b.coatProb);
+#if SCENE_LOBES & LOBE_SHEEN
+    /* Sided as the coat is. */
+    float sheen = (b.lobes & LOBE_SHEEN) ? max_component(at->sheenColor) : 0.0f;
+    b.sheen = (b.refracts && !frontSide) ? 0.0f : sheen;
+    b.sheenBack = (b.refracts && frontSide) ? 0.0f : sheen;
+    b.sheenColor = at->sheenColor;
+    b.sheenRoughness = at->sheenRoughness;
+#else
+    b.sheen = b.sheenBack = 0.0f;
+    b.sheenColor = v3s(0.0f);
+    b.sheenRoughness = 1.0f;
+#endif
+    b.lobeProb = lobe_probabilities(&b, wo.z, b.eta, false, &b.coatProb, &b.sheenProb);
     return b;
 }
 
@@ -188,12 +250,15 @@ INLINE float continuation_probability(const Bsdf* b)
 {
     vec3 albedo = v3_add(v3_add(v3_add(v3_scale(b->metalF0, b->metallic), b->specularTint), b->transmitColor),
                          b->diffuseColor);
+    float bound = max_component(albedo);
+    /* The layers' weights whichever side they are on, so that both sides agree. */
 #if SCENE_LOBES & LOBES_COAT
-    /* The coat's weight whichever side it is on, so that both sides agree. */
-    return clamp(max_component(albedo) + fmax(b->coat, b->coatBack), 0.0f, 1.0f);
-#else
-    return clamp(max_component(albedo), 0.0f, 1.0f);
+    bound += fmax(b->coat, b->coatBack);
 #endif
+#if SCENE_LOBES & LOBE_SHEEN
+    bound += fmax(b->sheen, b->sheenBack);
+#endif
+    return clamp(bound, 0.0f, 1.0f);
 }
 
 /* False when the material has only delta lobes (in this scene): then no
@@ -201,16 +266,20 @@ INLINE float continuation_probability(const Bsdf* b)
  * surface can be skipped before building one. */
 INLINE bool material_has_nondelta(__global const Material* m)
 {
-    return (m->lobes & SCENE_LOBES & (LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT)) != 0u;
+    return (m->lobes & SCENE_LOBES & (LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT |
+                                          LOBE_SHEEN)) != 0u;
 }
 
 INLINE bool bsdf_is_black(const Bsdf* b)
 {
+    float sum = b->lobeProb.x + b->lobeProb.y + b->lobeProb.z;
 #if SCENE_LOBES & LOBES_COAT
-    return b->lobeProb.x + b->lobeProb.y + b->lobeProb.z + b->coatProb <= 0.0f;
-#else
-    return b->lobeProb.x + b->lobeProb.y + b->lobeProb.z <= 0.0f;
+    sum += b->coatProb;
 #endif
+#if SCENE_LOBES & LOBE_SHEEN
+    sum += b->sheenProb;
+#endif
+    return sum <= 0.0f;
 }
 
 /* Whether some lobe has a finite density, i.e. light sampling and
@@ -219,7 +288,7 @@ INLINE bool bsdf_has_nondelta(const Bsdf* b)
 {
     return b->lobeProb.z > 0.0f || (b->lobeProb.x > 0.0f && (b->lobes & LOBE_GGX_REFLECTION)) ||
            (b->lobeProb.y > 0.0f && (b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts) ||
-           (b->coatProb > 0.0f && (b->lobes & LOBE_GGX_COAT));
+           (b->coatProb > 0.0f && (b->lobes & LOBE_GGX_COAT)) || b->sheenProb > 0.0f;
 }
 
 /* Generalised half vector of refraction h ∝ wo + η·wi, oriented to +z. */
@@ -246,16 +315,16 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
     if (wo.z <= 0.0f || wi.z == 0.0f)
         return f;
     if (wi.z > 0.0f) {
-        /* Reflection: wi is on wo's side, sees the same η and coat. */
-        float coatRev;
-        vec3 probRev = lobe_probabilities(b, wi.z, b->eta, b->coat, &coatRev);
-        /* What reaches the lobes beneath the coat and comes back out. */
-        float underCoat = coat_through(b->coat, wo.z) * coat_through(b->coat, wi.z);
+        /* Reflection: wi is on wo's side, sees the same η and layers. */
+        float coatRev, sheenRev;
+        vec3 probRev = lobe_probabilities(b, wi.z, b->eta, false, &coatRev, &sheenRev);
+        /* What reaches the lobes beneath the coat and the sheen and comes back out. */
+        float under = layers_through(b, false, wo.z) * layers_through(b, false, wi.z);
 #if SCENE_LOBES & LOBE_DIFFUSE
         if (b->lobeProb.z > 0.0f) {
             /* Light enters and leaves through the dielectric layer: both
              * transmittances, so the lobe is reciprocal. */
-            f = v3_add(f, v3_scale(b->diffuseColor, underCoat * layer_transmittance(b, wo.z, b->eta) *
+            f = v3_add(f, v3_scale(b->diffuseColor, under * layer_transmittance(b, wo.z, b->eta) *
                                                         layer_transmittance(b, wi.z, b->eta) * INV_PI_F));
             *pdfFwd += b->lobeProb.z * wi.z * INV_PI_F;
             *pdfRev += probRev.z * wo.z * INV_PI_F;
@@ -266,9 +335,18 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
             vec3 h = v3_normalize(v3_add(wo, wi));
             float cosH = v3_dot(wo, h);
             f = v3_add(f, v3_scale(reflectance(b, cosH, b->eta),
-                                   underCoat * ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) / (4.0f * wo.z * wi.z)));
+                                   under * ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) / (4.0f * wo.z * wi.z)));
             *pdfFwd += b->lobeProb.x * ggx_visible_pdf(wo, h, b->alpha) / (4.0f * cosH);
             *pdfRev += probRev.x * ggx_visible_pdf(wi, h, b->alpha) / (4.0f * cosH);
+        }
+#endif
+#if SCENE_LOBES & LOBE_SHEEN
+        if (b->sheenProb > 0.0f) { /* beneath the coat only; sampled as diffuse is */
+            float value = coat_through(b->coat, wo.z) * coat_through(b->coat, wi.z) *
+                          sheen_value(b->sheenRoughness, wo, wi);
+            f = v3_add(f, v3_scale(b->sheenColor, value));
+            *pdfFwd += b->sheenProb * wi.z * INV_PI_F;
+            *pdfRev += sheenRev * wo.z * INV_PI_F;
         }
 #endif
 #if SCENE_LOBES & LOBE_GGX_COAT
@@ -288,8 +366,8 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
             float oh = v3_dot(wo, h), ih = v3_dot(wi, h);
             if (oh > 0.0f && ih < 0.0f) { /* a microfacet both directions see */
                 float denom = ih + oh / b->eta;
-                float T = layer_transmittance(b, oh, b->eta) * coat_through(b->coat, wo.z) *
-                          coat_through(b->coatBack, wi.z);
+                float T = layer_transmittance(b, oh, b->eta) * layers_through(b, false, wo.z) *
+                          layers_through(b, true, wi.z);
                 float value = ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) * fabs(ih * oh / (wi.z * wo.z * denom * denom));
                 if (!adjoint)
                     value /= b->eta * b->eta;
@@ -298,8 +376,8 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
                 /* Reverse: from wi's side (mirrored so it is "above"), η
                  * inverts and the roles of the directions swap. */
                 vec3 wiUp = v3(wi.x, wi.y, -wi.z), hUp = v3(-h.x, -h.y, h.z);
-                float coatRev;
-                vec3 probRev = lobe_probabilities(b, -wi.z, 1.0f / b->eta, b->coatBack, &coatRev);
+                float coatRev, sheenRev;
+                vec3 probRev = lobe_probabilities(b, -wi.z, 1.0f / b->eta, true, &coatRev, &sheenRev);
                 *pdfRev += probRev.y * ggx_visible_pdf(wiUp, hUp, b->alpha) *
                            refraction_jacobian(-ih, -oh, 1.0f / b->eta);
             }
@@ -323,9 +401,9 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
             s->wi = v3(-wo.x, -wo.y, wo.z);
             s->pdf = s->pdfRev = pR;
             s->delta = true;
-            /* f·cos/pdf with f = R·δ/cos, through the coat both ways */
-            float underCoat = coat_through(b->coat, wo.z) * coat_through(b->coat, wo.z);
-            s->weight = v3_scale(reflectance(b, wo.z, b->eta), underCoat / pR);
+            /* f·cos/pdf with f = R·δ/cos, through the layers both ways */
+            float under = layers_through(b, false, wo.z) * layers_through(b, false, wo.z);
+            s->weight = v3_scale(reflectance(b, wo.z, b->eta), under / pR);
             return true;
         }
 #if SCENE_LOBES & LOBE_GGX_REFLECTION
@@ -338,17 +416,17 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
 #endif
     } else if (u1 < pR + pT) {
         if ((b->lobes & LOBE_DELTA_TRANSMISSION) || !b->refracts) {
-            float T = layer_transmittance(b, wo.z, b->eta) * coat_through(b->coat, wo.z);
+            float T = layer_transmittance(b, wo.z, b->eta) * layers_through(b, false, wo.z);
             s->delta = true;
             s->pdf = s->pdfRev = pT;
             if (!b->refracts) { /* thin-walled: straight through */
                 s->wi = v3_neg(wo);
-                s->weight = v3_scale(b->transmitColor, T * coat_through(b->coatBack, wo.z) / pT);
+                s->weight = v3_scale(b->transmitColor, T * layers_through(b, true, wo.z) / pT);
                 return true;
             }
             if (!refract_direction(wo, v3(0.0f, 0.0f, 1.0f), b->eta, &s->wi))
                 return false; /* TIR: T = 0 here anyway */
-            float scale = coat_through(b->coatBack, s->wi.z) * (adjoint ? 1.0f : 1.0f / (b->eta * b->eta));
+            float scale = layers_through(b, true, s->wi.z) * (adjoint ? 1.0f : 1.0f / (b->eta * b->eta));
             s->weight = v3_div(v3_scale(b->transmitColor, T * scale), pT);
             return true;
         }
@@ -373,7 +451,7 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
         if (s->wi.z <= 0.0f)
             return false;
 #endif
-    } else {
+    } else { /* diffuse or sheen */
         s->wi = sample_cosine_hemisphere(u2, u3);
         if (s->wi.z <= 0.0f)
             return false;

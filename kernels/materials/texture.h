@@ -125,7 +125,8 @@ INLINE float vertex_alpha(const RenderBuffers* b, int tri, vec2 bary)
 /* What material m is on triangle `tri` at barycentrics `bary`: its factors
  * times its vertex colours and textures there — the base-colour texture's
  * RGB, the metallic-roughness texture's B (metallic) and G (roughness), the
- * transmission texture's R, the clear coat's R (weight) and G (roughness). */
+ * transmission texture's R, the clear coat's R (weight) and G (roughness),
+ * the sheen's RGB (colour) and alpha (roughness). */
 INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const Material* m, int tri, vec2 bary)
 {
     SurfaceMaterial s = material_factors(m);
@@ -147,6 +148,12 @@ INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const M
         s.clearcoat *= scene_texture(b, m->clearcoatTexture, tri, bary).x;
     if (m->clearcoatRoughnessTexture > 0)
         s.clearcoatRoughness *= scene_texture(b, m->clearcoatRoughnessTexture, tri, bary).y;
+#endif
+#if SCENE_LOBES & LOBE_SHEEN
+    if (m->sheenColorTexture > 0)
+        s.sheenColor = v3_mul(s.sheenColor, scene_texture(b, m->sheenColorTexture, tri, bary));
+    if (m->sheenRoughnessTexture > 0)
+        s.sheenRoughness *= scene_texture_alpha(b, m->sheenRoughnessTexture, tri, bary);
 #endif
 #endif
     return s;

@@ -38,7 +38,8 @@ __kernel void sample_bsdf(__global const Material* materials, __global const int
 }
 
 /* bsdf_eval(wo[i], wi[i]): f and the forward pdf in evalF, the reverse pdf in
- * evalPdfRev; the lobe probabilities at wo in lobeProb. */
+ * evalPdfRev; the lobe probabilities at wo in lobeProb: reflection,
+ * transmission, the cosine-sampled lobes (diffuse and sheen), the coat. */
 __kernel void eval_bsdf(__global const Material* materials, __global const int4* setups,
                         __global const float4* wos, __global const float4* wis, int count,
                         __global float4* evalF, __global float* evalPdfRev, __global float4* lobeProb)
@@ -54,7 +55,16 @@ __kernel void eval_bsdf(__global const Material* materials, __global const int4*
     vec3 f = bsdf_eval(&b, wo, from_float3(wis[i].xyz), setup.z != 0, &pdfFwd, &pdfRev);
     evalF[i] = (float4)(to_float3(f), pdfFwd);
     evalPdfRev[i] = pdfRev;
-    lobeProb[i] = (float4)(to_float3(b.lobeProb), b.coatProb);
+    lobeProb[i] = (float4)(b.lobeProb.x, b.lobeProb.y, b.lobeProb.z + b.sheenProb, b.coatProb);
+}
+
+/* The sheen's tabulated directional albedo (materials/sheen.h) at roughness
+ * rMu[i].x and cos θ = rMu[i].y. */
+__kernel void sheen_albedo_lookup(__global const float2* rMu, int count, __global float* albedo)
+{
+    int i = get_global_id(0);
+    if (i < count)
+        albedo[i] = sheen_albedo(rMu[i].x, rMu[i].y);
 }
 
 /* The forward pdf over one bin [θ0, θ0 + dθ] × [φ0, φ0 + dφ]: the midpoint

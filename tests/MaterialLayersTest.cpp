@@ -1,9 +1,10 @@
-// KHR_materials_clearcoat (kernels/materials/bsdf.h): a coat over the other
-// lobes, rough or smooth, on opaque surfaces and on a refracting solid,
+// The layers over a glTF material's lobes (kernels/materials/bsdf.h):
+// KHR_materials_clearcoat's coat, rough or smooth, on opaque surfaces and on a
+// refracting solid, and KHR_materials_sheen's fibres (materials/sheen.h),
 // rendered alike by algorithms that weight their techniques differently.
 // tests/BsdfTest.cpp checks the BSDF itself (sampling, pdfs, reciprocity,
-// energy), tests/MisTest.cpp its MIS weights, tests/TextureTest.cpp its
-// textures.
+// energy, the sheen's albedo table), tests/MisTest.cpp its MIS weights,
+// tests/TextureTest.cpp the layers' textures.
 #include "TestDevices.h"
 #include "TestRendering.h"
 #include "scene/GltfLoader.h"
@@ -23,22 +24,33 @@ void addCoat(Material& m, float weight, float roughness)
     m.lobes |= roughness * roughness < 1e-3f ? LOBE_DELTA_COAT : LOBE_GGX_COAT;
 }
 
-// The Cornell box with its surfaces coated: the green wall under a rough
-// coat of weight 0.5 (a GGX coat over Lambert); the mirror sphere made a
-// rough metal under a smooth coat (a delta coat over a GGX lobe); the glass
-// sphere made rough glass under a rough coat (outside only: from inside the
-// solid the coat is crossed, not seen).
-Scene coatedCornellBox()
+void addSheen(Material& m, Vec3 colour, float roughness)
+{
+    for (int c = 0; c < 3; ++c) m.sheenColor[c] = colour[c];
+    m.sheenRoughness = roughness;
+    m.lobes |= LOBE_SHEEN;
+}
+
+// The Cornell box with its surfaces layered: the green wall under a rough
+// coat of weight 0.5 (a GGX coat over Lambert); the red wall under a sheen;
+// the mirror sphere made a rough metal under a sheen and a smooth coat (a
+// delta coat over a GGX lobe); the glass sphere made rough glass under a
+// rough coat (outside only: from inside the solid the coat is crossed, not
+// seen).
+Scene layeredCornellBox()
 {
     Scene scene = loadGltf(test::cornellBoxPath());
+    Material& red = scene.materials.at(Red);
     Material& green = scene.materials.at(Green);
     Material& mirror = scene.materials.at(Mirror);
     Material& glass = scene.materials.at(Glass);
     EXPECT_EQ(mirror.lobes, LOBE_DELTA_REFLECTION);
     EXPECT_EQ(glass.lobes, LOBE_DELTA_REFLECTION | LOBE_DELTA_TRANSMISSION);
     addCoat(green, 0.5f, 0.5f);
+    addSheen(red, {0.2f, 0.5f, 0.9f}, 0.4f);
     mirror.roughness = 0.4f;
     mirror.lobes = LOBE_GGX_REFLECTION;
+    addSheen(mirror, {0.6f, 0.6f, 0.6f}, 0.7f);
     addCoat(mirror, 0.8f, 0.0f);
     glass.roughness = 0.3f;
     glass.lobes = LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION;
@@ -49,12 +61,13 @@ Scene coatedCornellBox()
 // pt, bpt and vcm agree per 8×8 block: means over 6 seeds within 5
 // seed-to-seed standard errors (a false alarm ~6e-7 per block). pt sees the
 // light through the rough glass with a heavy tail, as in
-// tests/AbsorptionTest.cpp: 8× the iterations. A coat lobe whose reverse
-// pdf or probability differed between the techniques, or a coat factor one
-// technique left out, would shift a block by far more.
-TEST(Clearcoat, EveryAlgorithmAgreesOnCoatedSurfaces)
+// tests/AbsorptionTest.cpp: 8× the iterations. A layer whose reverse pdf
+// or probability differed between the techniques, or a layer's factor at
+// one direction left out (a BSDF that is not reciprocal), would shift a
+// block by far more.
+TEST(MaterialLayers, EveryAlgorithmAgreesOnCoatsAndSheen)
 {
-    Scene scene = coatedCornellBox();
+    Scene scene = layeredCornellBox();
     const int size = 32, iterations = 16, seeds = 6;
     DeviceInfo device = test::devicesUnderTest()[0];
     std::vector<Image> bpt = test::renderSeeds(device, scene, Algorithm::Bidirectional, size, size, iterations, seeds);
