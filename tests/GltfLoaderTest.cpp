@@ -542,36 +542,48 @@ TEST_F(GltfLoader, CameraUpFollowsRollAndAspectRatioIsOptional)
     EXPECT_EQ(s.camera.aspectRatio, 0.0f) << "no aspectRatio in the file";
 }
 
-TEST_F(GltfLoader, FirstPerspectiveCameraWins)
+TEST_F(GltfLoader, FirstCameraWins)
 {
-    // Traversal meets the orthographic camera first (ignored), then camera 2
-    // at x = 1, then camera 1 at x = 2.
+    // Traversal meets the orthographic camera 0 first, at x = 7, then camera 2
+    // at x = 1, then camera 1 at x = 2: all three, in that order.
     GltfBuilder b = oneTriangle();
     b.j["cameras"] = json::array({{{"type", "orthographic"},
-                                   {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
+                                   {"orthographic", {{"xmag", 2}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
                                   perspective(0.8), perspective(0.5)});
     b.addNode({{"camera", 0}, {"translation", {7, 0, 0}}});
     b.addNode({{"camera", 2}, {"translation", {1, 0, 0}}});
     b.addNode({{"camera", 1}, {"translation", {2, 0, 0}}});
     Scene s = load(b);
     ASSERT_TRUE(s.cameraFromFile);
-    EXPECT_FLOAT_EQ(s.camera.yfov, 0.5f);
-    EXPECT_TRUE(near(s.camera.position, {1, 0, 0}));
+    ASSERT_EQ(s.cameras.size(), 3u);
+    EXPECT_TRUE(s.camera.orthographic);
+    EXPECT_TRUE(near(s.camera.position, {7, 0, 0}));
+    EXPECT_FALSE(s.cameras[1].orthographic);
+    EXPECT_FLOAT_EQ(s.cameras[1].yfov, 0.5f);
+    EXPECT_TRUE(near(s.cameras[1].position, {1, 0, 0}));
 }
 
-TEST_F(GltfLoader, OrthographicOnlyGivesWarningAndDefaultCamera)
+// glTF's orthographic camera: parallel rays over [−xmag, xmag] × [−ymag,
+// ymag]; the default image aspect is xmag / ymag. xmag or ymag 0 is an error.
+TEST_F(GltfLoader, OrthographicCamera)
 {
     GltfBuilder b = oneTriangle();
     b.j["cameras"] = json::array(
-        {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}}});
+        {{{"type", "orthographic"}, {"orthographic", {{"xmag", 3}, {"ymag", 1.5}, {"znear", 0.1}, {"zfar", 10}}}}});
     b.addNode({{"camera", 0}, {"translation", {7, 0, 0}}});
     Scene s = load(b);
-    EXPECT_FALSE(s.cameraFromFile);
-    EXPECT_TRUE(anyWarningContains(s, "orthographic"));
-    EXPECT_TRUE(anyWarningContains(s, "no perspective camera"));
-    CameraView framing = framingCamera(s.bounds(), 0.0f);
-    EXPECT_TRUE(near(s.camera.position, framing.position));
+    ASSERT_TRUE(s.cameraFromFile);
+    EXPECT_TRUE(s.camera.orthographic);
+    EXPECT_FLOAT_EQ(s.camera.ymag, 1.5f);
+    EXPECT_FLOAT_EQ(s.camera.aspectRatio, 2.0f);
     EXPECT_TRUE(near(s.camera.forward, {0, 0, -1}));
+    Camera c = makeCamera(s.camera, 200, 100);
+    EXPECT_EQ(c.projection, CAMERA_ORTHOGRAPHIC);
+    EXPECT_FLOAT_EQ(c.up[1], 1.5f) << "half-height in scene units";
+    EXPECT_FLOAT_EQ(c.right[0], 3.0f) << "half-width: ymag × the image's aspect";
+
+    b.j["cameras"][0]["orthographic"]["ymag"] = 0;
+    expectLoadError(b.writeGltf(dir_, "flat"), "xmag and ymag must be finite and not zero");
 }
 
 TEST_F(GltfLoader, NoCameraGivesWarningAndFramingCamera)
@@ -579,7 +591,7 @@ TEST_F(GltfLoader, NoCameraGivesWarningAndFramingCamera)
     GltfBuilder b = oneTriangle();
     Scene s = load(b);
     EXPECT_FALSE(s.cameraFromFile);
-    EXPECT_TRUE(anyWarningContains(s, "no perspective camera"));
+    EXPECT_TRUE(anyWarningContains(s, "no camera"));
     // The framing camera looks at the triangle's bounds from +z.
     EXPECT_TRUE(near(s.camera.position, framingCamera(s.bounds(), 0.0f).position));
     EXPECT_NEAR(s.camera.position.x, 0.5f, 1e-5f);

@@ -49,7 +49,7 @@ static void addSceneOptions(CLI::App* command, wv::RenderOptions& o, bool severa
         ->capture_default_str();
     command->add_option("--radius-alpha", o.radiusAlpha, "radius reduction: r_i = r_1 i^((alpha-1)/2)")
         ->capture_default_str();
-    command->add_option("--camera", o.camera, "render from the file's N-th perspective camera (0 = the first)")
+    command->add_option("--camera", o.camera, "render from the file's N-th camera (0 = the first)")
         ->check(CLI::NonNegativeNumber);
     command->add_option("--background", o.background,
                         "uniform background radiance R,G,B (replaces the scene's; 0,0,0 for none)");

@@ -65,7 +65,7 @@ static void chooseCameraAndLight(const RenderOptions& o, const std::string& scen
     if (o.camera >= 0) {
         if (size_t(o.camera) >= scene.cameras.size())
             throw Error("--camera " + std::to_string(o.camera) + ": " + scenePath + " has " +
-                        std::to_string(scene.cameras.size()) + " perspective camera" +
+                        std::to_string(scene.cameras.size()) + " camera" +
                         (scene.cameras.size() == 1 ? "" : "s") + " (numbered from 0)");
         scene.camera = scene.cameras[size_t(o.camera)];
     }

@@ -31,7 +31,7 @@ struct RenderOptions {
     std::string reference, errorLog; // --reference REF --error-log LOG.csv
     std::string statsFile;
     double checkpoint = 0;  // --checkpoint SECONDS: write the image so far this often; 0 = never
-    int camera = -1;        // --camera N: the file's N-th perspective camera; -1 = the first
+    int camera = -1;        // --camera N: the file's N-th camera; -1 = the first
     std::string background; // --background R,G,B (radiance); empty = the scene's
     std::string environment;         // --environment FILE: equirectangular .exr/.hdr/.pfm
     double environmentStrength = 1;  // --environment-strength S

@@ -126,6 +126,11 @@ Renderer::Renderer(DeviceContext& device, const Scene& scene, const Bvh& bvh, co
     useVM_ = algorithm == Algorithm::ProgressivePhotonMapping || algorithm == Algorithm::BidirectionalPhotonMapping ||
              algorithm == Algorithm::VertexConnectionMerging;
     bool lightTracing = algorithm == Algorithm::LightTracing;
+    // An orthographic camera sees along one direction only: no light path can
+    // connect to it (kernels/lights/camera.h), and light tracing has nothing else.
+    if (lightTracing && scene.camera.orthographic)
+        throw Error(scene.path + ": light tracing (-a lt) cannot render through an orthographic camera, "
+                                 "which no light path can reach; use pt, bpt, vcm, ppm or bpm");
     connectionQueue_ = usesConnectionQueue(settings, device.info);
     sceneRadius_ = lights_.info.radius;
     pixels_ = settings.width * settings.height;

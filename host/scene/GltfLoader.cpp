@@ -1294,22 +1294,32 @@ void Loader::addCamera(int cameraIndex, const Mat4& world)
     if (size_t(cameraIndex) >= model_.cameras.size())
         fail("camera index " + std::to_string(cameraIndex) + " out of range");
     const tinygltf::Camera& cam = model_.cameras[cameraIndex];
-    if (cam.type != "perspective") {
-        warnOnce("camera " + std::to_string(cameraIndex) + " is " + cam.type + "; only perspective cameras are used");
-        return;
-    }
-    double yfov = cam.perspective.yfov;
-    if (!(yfov > 0 && yfov < M_PI)) fail("camera " + std::to_string(cameraIndex) + ": yfov must be in (0, pi)");
+    std::string what = "camera " + std::to_string(cameraIndex);
     CameraView view;
+    if (cam.type == "perspective") {
+        double yfov = cam.perspective.yfov;
+        if (!(yfov > 0 && yfov < M_PI)) fail(what + ": yfov must be in (0, pi)");
+        view.yfov = float(yfov);
+        view.aspectRatio = cam.perspective.aspectRatio > 0 ? float(cam.perspective.aspectRatio) : 0.0f;
+    } else if (cam.type == "orthographic") {
+        // xmag and ymag: the view's half-width and half-height. The image
+        // keeps ymag and its own aspect, as a perspective camera keeps yfov.
+        double xmag = cam.orthographic.xmag, ymag = cam.orthographic.ymag;
+        if (!(xmag != 0 && ymag != 0 && std::isfinite(xmag) && std::isfinite(ymag)))
+            fail(what + ": orthographic xmag and ymag must be finite and not zero");
+        view.orthographic = true;
+        view.ymag = float(std::abs(ymag)); // in the node's units; a scale on a camera node is left out, as for yfov
+        view.aspectRatio = float(std::abs(xmag / ymag));
+    } else {
+        fail(what + ": unknown type '" + cam.type + "' (perspective or orthographic)");
+    }
     view.position = transformPoint(world, {0, 0, 0});
     view.forward = normalize(transformVector(world, {0, 0, -1}));
     view.up = normalize(transformVector(world, {0, 1, 0}));
-    view.yfov = float(yfov);
-    view.aspectRatio = cam.perspective.aspectRatio > 0 ? float(cam.perspective.aspectRatio) : 0.0f;
-    if (!isFinite(view.forward) || !isFinite(view.up))
-        fail("camera " + std::to_string(cameraIndex) + ": degenerate node transform");
+    if (!isFinite(view.forward) || !isFinite(view.up) || !std::isfinite(view.ymag) || !(view.ymag > 0))
+        fail(what + ": degenerate node transform");
     scene_.cameras.push_back(view);
-    if (!scene_.cameraFromFile) scene_.camera = view; // the first perspective camera is the default
+    if (!scene_.cameraFromFile) scene_.camera = view; // the first camera is the default
     scene_.cameraFromFile = true;
 }
 
@@ -1400,7 +1410,7 @@ Scene loadGltf(const std::string& path)
     scene.path = path;
     Loader(path, scene).load();
     if (!scene.cameraFromFile) {
-        scene.warnings.push_back(path + ": no perspective camera; using a default camera framing the scene");
+        scene.warnings.push_back(path + ": no camera; using a default camera framing the scene");
         scene.camera = framingCamera(scene.bounds(), 0.0f);
     }
     return scene;

@@ -115,16 +115,19 @@ Camera makeCamera(const CameraView& view, int width, int height)
     Vec3 forward = normalize(view.forward);
     Vec3 right = normalize(cross(forward, view.up));
     Vec3 up = cross(right, forward);
-    float tanHalf = std::tan(0.5f * view.yfov);
+    // The image's half-height: at distance 1 for a perspective camera, in
+    // scene units for an orthographic one (kernels/lights/camera.h).
+    float halfHeight = view.orthographic ? view.ymag : std::tan(0.5f * view.yfov);
     float aspect = float(width) / float(height);
     Camera c{};
     store(c.position, view.position);
     store(c.forward, forward);
-    store(c.right, right * (tanHalf * aspect));
-    store(c.up, up * tanHalf);
+    store(c.right, right * (halfHeight * aspect));
+    store(c.up, up * halfHeight);
     c.width = width;
     c.height = height;
-    c.imagePlaneArea = 4.0f * tanHalf * tanHalf * aspect;
+    c.imagePlaneArea = 4.0f * halfHeight * halfHeight * aspect;
+    c.projection = view.orthographic ? CAMERA_ORTHOGRAPHIC : CAMERA_PERSPECTIVE;
     return c;
 }
 

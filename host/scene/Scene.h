@@ -52,8 +52,10 @@ struct CameraView {
     Vec3 position{0, 0, 0};
     Vec3 forward{0, 0, -1};
     Vec3 up{0, 1, 0};
-    float yfov = 0.7f;        // radians
+    float yfov = 0.7f;        // radians (perspective)
     float aspectRatio = 0.0f; // width / height; 0 = not given by the file
+    bool orthographic = false; // glTF's orthographic camera: parallel rays over ...
+    float ymag = 1.0f;         // ... [-ymag, ymag] vertically (and ymag × aspect horizontally)
 };
 
 // Which kernel code the scene needs; becomes -D options of the kernel build.
@@ -110,9 +112,9 @@ struct Scene {
     // cross(n, t)·w), zero where the material has none; empty when no
     // material has a normal map.
     std::vector<std::array<float, 4>> tangents;
-    CameraView camera;         // the one rendered: the file's first perspective camera by default
+    CameraView camera;         // the one rendered: the file's first camera by default
     bool cameraFromFile = false;
-    std::vector<CameraView> cameras; // every perspective camera of the file, in node order (--camera N)
+    std::vector<CameraView> cameras; // every camera of the file, in node order (--camera N)
     // Where the scene's coordinates start in the file's: the loader moves a
     // scene that lies far from the origin (compared with its size) so that
     // its centre is at the origin (file position = position + origin).

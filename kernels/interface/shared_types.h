@@ -77,8 +77,14 @@ typedef struct Camera {
     float right[3];
     int height;
     float up[3];
-    float pad;
+    int projection; /* CAMERA_PERSPECTIVE or CAMERA_ORTHOGRAPHIC */
 } Camera;
+
+/* Camera::projection. A perspective camera's right and up span the image
+ * plane at distance 1 (scaled by tan(fov/2)); an orthographic camera's span
+ * the image itself, in scene units, and every ray looks along forward. */
+#define CAMERA_PERSPECTIVE 0
+#define CAMERA_ORTHOGRAPHIC 1
 
 /* BSDF lobes a material has; kernels evaluate only the lobes present. */
 #define LOBE_DIFFUSE 1u
