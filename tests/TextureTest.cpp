@@ -85,8 +85,10 @@ protected:
                               json extensions = json::object())
     {
         test::QuadFile quad;
-        // Pure Lambert (no specular layer): under a uniform background it reflects base colour × L.
-        extensions["KHR_materials_specular"] = {{"specularFactor", 0.0}};
+        // Pure Lambert (no specular layer) unless `extensions` says otherwise:
+        // under a uniform background it reflects base colour × L.
+        if (!extensions.contains("KHR_materials_specular"))
+            extensions["KHR_materials_specular"] = {{"specularFactor", 0.0}};
         quad.material = {{"pbrMetallicRoughness", pbr}, {"extensions", extensions}};
         quad.extensionsUsed = {"KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_clearcoat",
                                "KHR_materials_sheen"};
@@ -410,6 +412,44 @@ TEST_F(Textures, TransmissionTextureScalesTransmission)
     }
 }
 
+// A black quad's layer coloured by coat.png (corners green, yellow, black,
+// red) against the same layer white: each channel of each corner block is 0
+// or the white layer's at the same seed (the same lobe, picked with
+// probability 1, and the same random numbers: 1e-3 relative).
+void expectCoatPngColours(const Image& coloured, const Image& white, int size, int block)
+{
+    double se;
+    const int right = size - block, bottom = size - block;
+    const std::array<std::array<int, 2>, 4> corners{{{0, 0}, {right, 0}, {0, bottom}, {right, bottom}}};
+    const bool keeps[4][3] = {{false, true, false}, {true, true, false}, {false, false, false}, {true, false, false}};
+    for (int k = 0; k < 4; ++k)
+        for (int ch = 0; ch < 3; ++ch) {
+            double got = blockMean(coloured, size, corners[k][0], corners[k][1], block, ch, &se);
+            double w = blockMean(white, size, corners[k][0], corners[k][1], block, ch, &se);
+            EXPECT_GT(w, 0.02) << "the white layer reflects the background";
+            EXPECT_NEAR(got, keeps[k][ch] ? w : 0.0, 1e-3 * w) << "corner " << k << " channel " << ch;
+        }
+}
+
+// A layer's factor scaled by alpha.png (1 left, 64/255 right): the left
+// column is the untextured layer of factor 1 (`full`), the right the one of
+// factor 64/255 (`reduced`), at the same seed (1e-3 relative); the two
+// differ by more than 20 %, so that the check means something.
+void expectAlphaPngColumns(const Image& textured, const Image& full, const Image& reduced, int size, int block)
+{
+    double se;
+    const int right = size - block;
+    for (int y0 : {0, size - block}) {
+        double fullLeft = blockMean(full, size, 0, y0, block, 1, &se);
+        double reducedRight = blockMean(reduced, size, right, y0, block, 1, &se);
+        EXPECT_NEAR(blockMean(textured, size, 0, y0, block, 1, &se), fullLeft, 1e-3 * fullLeft) << "row " << y0;
+        EXPECT_NEAR(blockMean(textured, size, right, y0, block, 1, &se), reducedRight, 1e-3 * reducedRight)
+            << "row " << y0;
+        EXPECT_GT(std::abs(fullLeft - blockMean(reduced, size, 0, y0, block, 1, &se)), 0.2 * fullLeft)
+            << "the two factors must differ";
+    }
+}
+
 // The clear coat's textures (KHR_materials_clearcoat): R of
 // clearcoatTexture times clearcoatFactor, G of clearcoatRoughnessTexture
 // times clearcoatRoughnessFactor. A black quad (only the coat reflects) with
@@ -462,13 +502,8 @@ TEST_F(Textures, ClearcoatTexturesScaleWeightAndRoughness)
 // The sheen's textures (KHR_materials_sheen): sheenColorTexture's RGB
 // (sRGB-decoded) times sheenColorFactor, sheenRoughnessTexture's alpha times
 // sheenRoughnessFactor. A black quad (only the sheen reflects) under a
-// uniform white background. Coloured by coat.png (corners green, yellow,
-// black, red): each channel of each corner is 0 or the untextured white
-// sheen's at the same seed (the same lobe, picked with probability 1, and
-// the same random numbers: 1e-3 relative). Roughened by alpha.png (1 left,
-// 64/255 right): the right column is the untextured sheen of roughness
-// 64/255, the left the untextured one of roughness 1, which differ by more
-// than 20 % seen head-on.
+// uniform white background, coloured by coat.png and roughened by
+// alpha.png (expectCoatPngColours, expectAlphaPngColumns).
 TEST_F(Textures, SheenTexturesScaleColourAndRoughness)
 {
     json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
@@ -490,27 +525,38 @@ TEST_F(Textures, SheenTexturesScaleColourAndRoughness)
     EXPECT_EQ(coloured.materials.at(0).lobes, LOBE_SHEEN);
     Image c = render(coloured), r = render(roughened), rough = render(quad("sheen-rough", 1.0f, nullptr, 0)),
           smooth = render(quad("sheen-smooth", 64 / 255.0f, nullptr, 0));
-    double se;
-    const int right = size - block, bottom = size - block;
-    // corner (x0, y0): which channels the texture keeps
-    const std::array<std::array<int, 3>, 4> corners{{{0, 0, 0}, {right, 0, 0}, {0, bottom, 0}, {right, bottom, 0}}};
-    const bool keeps[4][3] = {{false, true, false}, {true, true, false}, {false, false, false}, {true, false, false}};
-    for (int k = 0; k < 4; ++k)
-        for (int ch = 0; ch < 3; ++ch) {
-            double got = blockMean(c, size, corners[k][0], corners[k][1], block, ch, &se);
-            double white = blockMean(rough, size, corners[k][0], corners[k][1], block, ch, &se);
-            EXPECT_GT(white, 0.02) << "the white sheen reflects the background";
-            EXPECT_NEAR(got, keeps[k][ch] ? white : 0.0, 1e-3 * white) << "corner " << k << " channel " << ch;
-        }
-    for (int y0 : {0, bottom}) {
-        double left = blockMean(r, size, 0, y0, block, 1, &se), rightBlock = blockMean(r, size, right, y0, block, 1, &se);
-        double roughLeft = blockMean(rough, size, 0, y0, block, 1, &se);
-        double smoothRight = blockMean(smooth, size, right, y0, block, 1, &se);
-        EXPECT_NEAR(left, roughLeft, 1e-3 * roughLeft) << "row " << y0;
-        EXPECT_NEAR(rightBlock, smoothRight, 1e-3 * smoothRight) << "row " << y0;
-        EXPECT_GT(std::abs(roughLeft - blockMean(smooth, size, 0, y0, block, 1, &se)), 0.2 * roughLeft)
-            << "the two roughnesses must differ";
-    }
+    expectCoatPngColours(c, rough, size, block);
+    expectAlphaPngColumns(r, rough, smooth, size, block);
+}
+
+// KHR_materials_specular's textures: specularTexture's alpha times
+// specularFactor, specularColorTexture's RGB (sRGB-decoded) times
+// specularColorFactor. A black rough dielectric quad (only the specular
+// layer reflects) under a uniform white background, textured as the sheen
+// test's quad is and checked the same way.
+TEST_F(Textures, SpecularTexturesScaleFactorAndColour)
+{
+    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
+    json pbr = {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.5}};
+    auto quad = [&](const std::string& name, float factor, const char* texture, int index) {
+        json specular = {{"specularFactor", factor}};
+        if (texture) specular[texture] = {{"index", index}};
+        Scene s = loadGltf(writeQuadWith(name, pbr, clamp, true, {{"KHR_materials_specular", specular}}));
+        s.background = {1, 1, 1};
+        return s;
+    };
+    const int size = 32, block = 8, iterations = 16;
+    DeviceInfo device = test::devicesUnderTest()[0];
+    auto render = [&](const Scene& s) { return test::render(device, s, Algorithm::PathTracing, size, size, iterations, 9).image; };
+    Scene coloured = quad("specular-coloured", 1.0f, "specularColorTexture", 3);
+    Scene weakened = quad("specular-weakened", 1.0f, "specularTexture", 4);
+    ASSERT_EQ(coloured.materials.at(0).specularColorTexture, 1);
+    ASSERT_EQ(weakened.materials.at(0).specularTexture, 1);
+    EXPECT_EQ(coloured.materials.at(0).lobes, LOBE_GGX_REFLECTION);
+    Image c = render(coloured), w = render(weakened), full = render(quad("specular-full", 1.0f, nullptr, 0)),
+          weak = render(quad("specular-weak", 64 / 255.0f, nullptr, 0));
+    expectCoatPngColours(c, full, size, block);
+    expectAlphaPngColumns(w, full, weak, size, block);
 }
 
 // TEXCOORD_1: the base-colour texture read through the second set, which

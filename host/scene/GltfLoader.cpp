@@ -495,20 +495,8 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
         double strength = std::max(0.0, number(*e, "emissiveStrength", 1.0));
         for (float& c : out.emission) c *= float(strength);
     }
-    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_specular")) {
-        out.specular = clamp01(number(*e, "specularFactor", 1.0));
-        if (e->Has("specularColorFactor") && e->Get("specularColorFactor").IsArray() &&
-            e->Get("specularColorFactor").ArrayLen() == 3)
-            for (int c = 0; c < 3; ++c)
-                out.specularColor[c] = float(std::max(0.0, e->Get("specularColorFactor").Get(c).GetNumberAsDouble()));
-    }
-    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_ior")) {
-        double ior = number(*e, "ior", 1.5);
-        if (!(ior >= 1.0) || !std::isfinite(ior)) fail(name + ": KHR_materials_ior ior must be >= 1, got " + std::to_string(ior));
-        out.ior = float(ior);
-    }
     // An extension's texture reference is plain JSON to tinygltf: its texture
-    // (linear data), or 0 where it has none.
+    // (linear data, or sRGB-encoded colour), or 0 where it has none.
     auto extensionTexture = [&](const tinygltf::Value& e, const char* extensionName, const char* key,
                                 const char* kind, bool srgb = false) {
         if (!e.Has(key)) return 0;
@@ -522,6 +510,21 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
             for (const std::string& k : t.Get("extensions").Keys()) info.extensions[k] = t.Get("extensions").Get(k);
         return sceneTexture(info, name, kind, srgb);
     };
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_specular")) {
+        out.specular = clamp01(number(*e, "specularFactor", 1.0));
+        if (e->Has("specularColorFactor") && e->Get("specularColorFactor").IsArray() &&
+            e->Get("specularColorFactor").ArrayLen() == 3)
+            for (int c = 0; c < 3; ++c)
+                out.specularColor[c] = float(std::max(0.0, e->Get("specularColorFactor").Get(c).GetNumberAsDouble()));
+        out.specularTexture = extensionTexture(*e, "KHR_materials_specular", "specularTexture", "specular");
+        out.specularColorTexture =
+            extensionTexture(*e, "KHR_materials_specular", "specularColorTexture", "specular colour", true);
+    }
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_ior")) {
+        double ior = number(*e, "ior", 1.5);
+        if (!(ior >= 1.0) || !std::isfinite(ior)) fail(name + ": KHR_materials_ior ior must be >= 1, got " + std::to_string(ior));
+        out.ior = float(ior);
+    }
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_transmission")) {
         out.transmission = clamp01(number(*e, "transmissionFactor", 0.0));
         out.transmissionTexture =

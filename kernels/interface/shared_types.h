@@ -131,6 +131,9 @@ typedef struct Material {
     float sheenRoughness;      /* sheenRoughnessFactor; the fibres' alpha = this² (materials/sheen.h) */
     int sheenColorTexture;     /* 1 + its index in the texture table; its RGB (sRGB-decoded) scales sheenColor */
     int sheenRoughnessTexture; /* the same; its alpha scales sheenRoughness */
+    int specularTexture;       /* the same; its alpha scales specular (KHR_materials_specular) */
+    int specularColorTexture;  /* the same; its RGB (sRGB-decoded) scales specularColor */
+    int pad[2];
 } Material;
 
 /* glTF alphaMode. */

@@ -176,6 +176,8 @@ INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta, bool back, 
 typedef struct SurfaceMaterial {
     vec3 baseColor;
     float metallic, roughness, transmission;
+    float specular;
+    vec3 specularColor;
     float clearcoat, clearcoatRoughness;
     vec3 sheenColor;
     float sheenRoughness;
@@ -189,6 +191,8 @@ INLINE SurfaceMaterial material_factors(__global const Material* m)
     s.metallic = m->metallic;
     s.roughness = m->roughness;
     s.transmission = m->transmission;
+    s.specular = m->specular;
+    s.specularColor = load3(m->specularColor);
     s.clearcoat = m->clearcoat;
     s.clearcoatRoughness = m->clearcoatRoughness;
     s.sheenColor = load3(m->sheenColor);
@@ -212,8 +216,8 @@ INLINE Bsdf make_bsdf(__global const Material* m, const SurfaceMaterial* at, vec
     float dielectric = 1.0f - at->metallic;
     b.metallic = at->metallic;
     b.metalF0 = base;
-    b.specular = m->ior == 1.0f ? 0.0f : dielectric * m->specular; /* index-matched: no reflection */
-    b.specularTint = v3_scale(load3(m->specularColor), b.specular);
+    b.specular = m->ior == 1.0f ? 0.0f : dielectric * at->specular; /* index-matched: no reflection */
+    b.specularTint = v3_scale(at->specularColor, b.specular);
     b.transmitColor = v3_scale(base, dielectric * at->transmission);
     b.diffuseColor = v3_scale(base, dielectric * (1.0f - at->transmission));
 #if SCENE_LOBES & LOBES_COAT

@@ -125,8 +125,9 @@ INLINE float vertex_alpha(const RenderBuffers* b, int tri, vec2 bary)
 /* What material m is on triangle `tri` at barycentrics `bary`: its factors
  * times its vertex colours and textures there — the base-colour texture's
  * RGB, the metallic-roughness texture's B (metallic) and G (roughness), the
- * transmission texture's R, the clear coat's R (weight) and G (roughness),
- * the sheen's RGB (colour) and alpha (roughness). */
+ * transmission texture's R, the specular layer's alpha (factor) and RGB
+ * (colour), the clear coat's R (weight) and G (roughness), the sheen's RGB
+ * (colour) and alpha (roughness). */
 INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const Material* m, int tri, vec2 bary)
 {
     SurfaceMaterial s = material_factors(m);
@@ -143,6 +144,10 @@ INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const M
     }
     if (m->transmissionTexture > 0)
         s.transmission *= scene_texture(b, m->transmissionTexture, tri, bary).x;
+    if (m->specularTexture > 0)
+        s.specular *= scene_texture_alpha(b, m->specularTexture, tri, bary);
+    if (m->specularColorTexture > 0)
+        s.specularColor = v3_mul(s.specularColor, scene_texture(b, m->specularColorTexture, tri, bary));
 #if SCENE_LOBES & LOBES_COAT
     if (m->clearcoatTexture > 0)
         s.clearcoat *= scene_texture(b, m->clearcoatTexture, tri, bary).x;
