@@ -74,7 +74,10 @@ TEST(KernelSources, EveryRenderKernelBuilds)
                            : a == Algorithm::Bidirectional ? " -DBIDIRECTIONAL"
                            : a == Algorithm::EyeLight      ? " -DEYE_LIGHT"
                                                            : "";
-        for (std::string options : {std::string(" -DSCENE_LOBES=0u"), test::everyFeature().buildOptions()})
+        // The fewest features (with an orthographic camera, which only takes code
+        // away) and the most.
+        for (std::string options :
+             {std::string(" -DSCENE_LOBES=0u -DORTHOGRAPHIC_CAMERA"), test::everyFeature().buildOptions()})
             EXPECT_NO_THROW(buildProgram(device.context, info, source, "-cl-std=CL1.2" + options + mode));
     }
 }

@@ -41,6 +41,7 @@ SceneFeatures Scene::features() const
     f.normalMaps = !tangents.empty();
     f.texCoord1 = !uvs1.empty();
     f.vertexColors = !colors.empty();
+    f.orthographicCamera = camera.orthographic;
     f.background = f.environmentMap || background.x > 0 || background.y > 0 || background.z > 0;
     return f;
 }
@@ -81,6 +82,7 @@ std::string SceneFeatures::buildOptions() const
     if (texCoord1) o += " -DHAS_TEXCOORD1";
     if (volumeAbsorption) o += " -DHAS_VOLUME_ABSORPTION";
     if (vertexColors) o += " -DHAS_VERTEX_COLORS";
+    if (orthographicCamera) o += " -DORTHOGRAPHIC_CAMERA";
     return o;
 }
 
@@ -127,7 +129,6 @@ Camera makeCamera(const CameraView& view, int width, int height)
     c.width = width;
     c.height = height;
     c.imagePlaneArea = 4.0f * halfHeight * halfHeight * aspect;
-    c.projection = view.orthographic ? CAMERA_ORTHOGRAPHIC : CAMERA_PERSPECTIVE;
     return c;
 }
 

@@ -74,6 +74,7 @@ struct SceneFeatures {
     bool texCoord1 = false;      // some texture reads TEXCOORD_1 (Scene::uvs1)
     bool volumeAbsorption = false; // some refracting solid absorbs (KHR_materials_volume attenuation)
     bool vertexColors = false;   // some primitive has COLOR_0 (Scene::colors)
+    bool orthographicCamera = false; // the camera rendered is orthographic (kernels/lights/camera.h)
 
     std::string buildOptions() const;
 };

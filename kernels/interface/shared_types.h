@@ -65,10 +65,12 @@ typedef TrianglePacket4 TrianglePacket;
 #endif
 #endif
 
-/* Pinhole camera. A pixel (x, y) with sub-pixel jitter (u, v) maps to the
- * direction forward + (2(x+u)/W - 1)·right + (1 - 2(y+v)/H)·up; right and up
- * are scaled by tan(fov/2) so the image plane is at distance 1. Row 0 is the
- * top of the image. */
+/* The camera. A pixel (x, y) with sub-pixel jitter (u, v) maps to the image
+ * point (2(x+u)/W - 1)·right + (1 - 2(y+v)/H)·up. For a pinhole camera that
+ * is the direction forward + it, right and up scaled by tan(fov/2) so that
+ * the image plane is at distance 1; for an orthographic one (compiled with
+ * -DORTHOGRAPHIC_CAMERA) the ray's origin is position + it, in scene units,
+ * and its direction forward. Row 0 is the top of the image. */
 typedef struct Camera {
     float position[3];
     float imagePlaneArea; /* area of the image plane at distance 1 (camera importance) */
@@ -77,14 +79,8 @@ typedef struct Camera {
     float right[3];
     int height;
     float up[3];
-    int projection; /* CAMERA_PERSPECTIVE or CAMERA_ORTHOGRAPHIC */
+    float pad;
 } Camera;
-
-/* Camera::projection. A perspective camera's right and up span the image
- * plane at distance 1 (scaled by tan(fov/2)); an orthographic camera's span
- * the image itself, in scene units, and every ray looks along forward. */
-#define CAMERA_PERSPECTIVE 0
-#define CAMERA_ORTHOGRAPHIC 1
 
 /* BSDF lobes a material has; kernels evaluate only the lobes present. */
 #define LOBE_DIFFUSE 1u

@@ -15,15 +15,15 @@ INLINE Ray camera_ray(__constant const Camera* cam, int pixel, float jitterX, fl
     float y = (float)(pixel / cam->width) + jitterY;
     float sx = 2.0f * x / (float)cam->width - 1.0f;
     float sy = 1.0f - 2.0f * y / (float)cam->height;
-    vec3 across = v3_add(v3_scale(load3c(cam->right), sx), v3_scale(load3c(cam->up), sy));
     Ray r;
-    if (cam->projection == CAMERA_ORTHOGRAPHIC) {
-        r.origin = v3_add(load3c(cam->position), across);
-        r.direction = load3c(cam->forward);
-    } else {
-        r.origin = load3c(cam->position);
-        r.direction = v3_normalize(v3_add(load3c(cam->forward), across));
-    }
+#ifdef ORTHOGRAPHIC_CAMERA
+    r.origin = v3_add(load3c(cam->position), v3_add(v3_scale(load3c(cam->right), sx), v3_scale(load3c(cam->up), sy)));
+    r.direction = load3c(cam->forward);
+#else
+    r.origin = load3c(cam->position);
+    r.direction = v3_normalize(
+        v3_add(v3_add(load3c(cam->forward), v3_scale(load3c(cam->right), sx)), v3_scale(load3c(cam->up), sy)));
+#endif
     r.tMax = INFINITY;
     return r;
 }
@@ -36,8 +36,9 @@ INLINE float camera_pdf_w(__constant const Camera* cam, vec3 d)
 {
     /* An orthographic camera's direction is a delta: infinite, so that
      * mis_camera_start gives light tracing's technique the weight 0. */
-    if (cam->projection == CAMERA_ORTHOGRAPHIC)
-        return INFINITY;
+#ifdef ORTHOGRAPHIC_CAMERA
+    return INFINITY;
+#endif
     float cosAtCamera = v3_dot(d, load3c(cam->forward));
     float imagePlaneDistance = (float)cam->height / (2.0f * v3_length(load3c(cam->up)));
     float imagePointDistance = imagePlaneDistance / cosAtCamera;
@@ -49,8 +50,9 @@ INLINE float camera_pdf_w(__constant const Camera* cam, vec3 d)
  * would have to run exactly along its direction. */
 INLINE int camera_pixel(__constant const Camera* cam, vec3 point)
 {
-    if (cam->projection == CAMERA_ORTHOGRAPHIC)
-        return -1;
+#ifdef ORTHOGRAPHIC_CAMERA
+    return -1;
+#endif
     vec3 d = v3_sub(point, load3c(cam->position));
     float depth = v3_dot(d, load3c(cam->forward));
     if (!(depth > 0.0f))
