@@ -98,22 +98,11 @@ Scene boxWithAbsorbingSphere(bool lightInside)
     return scene;
 }
 
-// pt, bpt and vcm, which weight the techniques differently, agree per 8×8
-// block (means over 6 seeds within 5 seed-to-seed standard errors). pt
-// reaches the light through the rough glass rarely and with a heavy tail
-// (next-event estimation from the sphere's surface, or BSDF sampling): 8×
-// the iterations, for the seed-to-seed spread to measure its error.
-void expectAgreement(const Scene& scene)
-{
-    const int size = 32, iterations = 16, seeds = 6;
-    DeviceInfo device = test::devicesUnderTest()[0];
-    std::vector<Image> bpt = test::renderSeeds(device, scene, Algorithm::Bidirectional, size, size, iterations, seeds);
-    std::vector<Image> pt = test::renderSeeds(device, scene, Algorithm::PathTracing, size, size, 8 * iterations, seeds);
-    std::vector<Image> vcm =
-        test::renderSeeds(device, scene, Algorithm::VertexConnectionMerging, size, size, iterations, seeds);
-    EXPECT_EQ(test::tilesDisagreeing(pt, bpt, 8, 5.0), 0) << "pt";
-    EXPECT_EQ(test::tilesDisagreeing(vcm, bpt, 8, 5.0), 0) << "vcm";
-}
+// pt, bpt and vcm agree (test::expectPtBptVcmAgree). pt reaches the light
+// through the rough glass rarely and with a heavy tail (next-event estimation
+// from the sphere's surface, or BSDF sampling): 8× the iterations, for the
+// seed-to-seed spread to measure its error.
+void expectAgreement(const Scene& scene) { test::expectPtBptVcmAgree(scene, 8); }
 
 // Light seen through the sphere crosses it: bpt and vcm connect a camera
 // vertex on its surface to a light vertex on its far side, across it; pt

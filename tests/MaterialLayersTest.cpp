@@ -58,24 +58,15 @@ Scene layeredCornellBox()
     return scene;
 }
 
-// pt, bpt and vcm agree per 8×8 block: means over 6 seeds within 5
-// seed-to-seed standard errors (a false alarm ~6e-7 per block). pt sees the
-// light through the rough glass with a heavy tail, as in
+// pt, bpt and vcm agree (test::expectPtBptVcmAgree). pt sees the light
+// through the rough glass with a heavy tail, as in
 // tests/AbsorptionTest.cpp: 8× the iterations. A layer whose reverse pdf
 // or probability differed between the techniques, or a layer's factor at
 // one direction left out (a BSDF that is not reciprocal), would shift a
 // block by far more.
 TEST(MaterialLayers, EveryAlgorithmAgreesOnCoatsAndSheen)
 {
-    Scene scene = layeredCornellBox();
-    const int size = 32, iterations = 16, seeds = 6;
-    DeviceInfo device = test::devicesUnderTest()[0];
-    std::vector<Image> bpt = test::renderSeeds(device, scene, Algorithm::Bidirectional, size, size, iterations, seeds);
-    std::vector<Image> pt = test::renderSeeds(device, scene, Algorithm::PathTracing, size, size, 8 * iterations, seeds);
-    std::vector<Image> vcm =
-        test::renderSeeds(device, scene, Algorithm::VertexConnectionMerging, size, size, iterations, seeds);
-    EXPECT_EQ(test::tilesDisagreeing(pt, bpt, 8, 5.0), 0) << "pt";
-    EXPECT_EQ(test::tilesDisagreeing(vcm, bpt, 8, 5.0), 0) << "vcm";
+    test::expectPtBptVcmAgree(layeredCornellBox(), 8);
 }
 
 } // namespace

@@ -211,4 +211,16 @@ void expectSameImageOnEveryDevice(const Scene& scene, Algorithm algorithm, int s
     }
 }
 
+void expectPtBptVcmAgree(const Scene& scene, int ptIterationFactor)
+{
+    const int size = 32, iterations = 16, seeds = 6;
+    DeviceInfo device = devicesUnderTest()[0];
+    std::vector<Image> bpt = renderSeeds(device, scene, Algorithm::Bidirectional, size, size, iterations, seeds);
+    std::vector<Image> pt =
+        renderSeeds(device, scene, Algorithm::PathTracing, size, size, ptIterationFactor * iterations, seeds);
+    std::vector<Image> vcm = renderSeeds(device, scene, Algorithm::VertexConnectionMerging, size, size, iterations, seeds);
+    EXPECT_EQ(tilesDisagreeing(pt, bpt, 8, 5.0), 0) << "pt";
+    EXPECT_EQ(tilesDisagreeing(vcm, bpt, 8, 5.0), 0) << "vcm";
+}
+
 } // namespace wv::test

@@ -78,6 +78,13 @@ std::vector<Image> renderSeeds(const DeviceInfo& device, const Scene& scene, Alg
 int tilesDisagreeing(const std::vector<Image>& a, const std::vector<Image>& b, int tile, double k,
                      const std::vector<bool>& mask = {}, int* compared = nullptr);
 
+// pt, bpt and vcm, which weight the techniques differently, render `scene`
+// alike at 32×32: per 8×8 block, the means over 6 seeds agree within 5
+// seed-to-seed standard errors (tilesDisagreeing; a false alarm ~6e-7 per
+// block), bpt and vcm at 16 iterations, pt at ptIterationFactor × 16 (more
+// where its estimator has a heavy tail the others do not).
+void expectPtBptVcmAgree(const Scene& scene, int ptIterationFactor);
+
 // Each of `algorithms`, rendered like `reference` (renderSeeds with `seeds`
 // seeds at width × height, `iterations` each), agrees with it on every 8×8
 // block within 5 seed-to-seed standard errors, and every block is compared.
