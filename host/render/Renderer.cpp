@@ -65,10 +65,12 @@ std::string Renderer::deviceOptions(const DeviceInfo& device, const SceneFeature
     // at their first non-delta hit; pt's shade 1.09x. Without GGX all gain. lt's camera paths do next to
     // nothing (in SIMD, while its scalar shade_light also lost its per-item pushes, lt ran 0.95-0.96x).
     bool simdShading = vectorizesShading(device);
-    bool ggx = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT | LOBE_SHEEN)) != 0;
+    // The coat's GGX lobe and the sheen (a table lookup and a pow per evaluation) are taken to cost as
+    // GGX does; not measured separately.
+    bool glossy = (features.lobes & (LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT | LOBE_SHEEN)) != 0;
     bool cameraWork = algorithm != Algorithm::ProgressivePhotonMapping && algorithm != Algorithm::LightTracing;
-    bool simdCamera = simdShading && (!ggx || cameraWork);
-    bool simdLight = simdShading && !ggx;
+    bool simdCamera = simdShading && (!glossy || cameraWork);
+    bool simdLight = simdShading && !glossy;
     // kernels/core/queues.h, pushes_per_item: where the device has one compute unit, the kernels that run
     // one work-item at a time push by an atomic per item, there cheaper than the work-group's barriers
     // (PoCL may still run its groups on other threads: atomics); SIMD kernels through the group. Also on
