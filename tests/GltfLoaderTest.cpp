@@ -821,6 +821,57 @@ TEST_F(GltfLoader, MaterialSheen)
     EXPECT_EQ(black.lobes, LOBE_DIFFUSE | LOBE_GGX_REFLECTION);
 }
 
+// KHR_materials_diffuse_transmission: the factor and colour (defaults 0 and
+// white), a diffuse transmission lobe beside the diffuse one, which it
+// replaces at factor 1 (a texture may scale the factor down, so the diffuse
+// lobe stays then); none for a black colour; into a solid with
+// KHR_materials_volume, where the solid's absorption is then compiled in.
+TEST_F(GltfLoader, MaterialDiffuseTransmission)
+{
+    auto translucent = [&](json dt, json more = json::object()) {
+        json extensions = {{"KHR_materials_diffuse_transmission", dt}};
+        extensions.update(more);
+        return loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+                             {"extensions", extensions}});
+    };
+    Material m = translucent({{"diffuseTransmissionFactor", 0.4}, {"diffuseTransmissionColorFactor", {0.5, 0.25, 2.0}}});
+    EXPECT_FLOAT_EQ(m.diffuseTransmission, 0.4f);
+    EXPECT_FLOAT_EQ(m.diffuseTransmissionColor[0], 0.5f);
+    EXPECT_FLOAT_EQ(m.diffuseTransmissionColor[1], 0.25f);
+    EXPECT_FLOAT_EQ(m.diffuseTransmissionColor[2], 1.0f) << "clamped to 1";
+    EXPECT_EQ(m.thinWalled, 1);
+    EXPECT_EQ(m.lobes, LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_DIFFUSE_TRANSMISSION);
+    Material whole = translucent({{"diffuseTransmissionFactor", 1.0}});
+    EXPECT_FLOAT_EQ(whole.diffuseTransmissionColor[1], 1.0f) << "white by default";
+    EXPECT_EQ(whole.lobes, LOBE_GGX_REFLECTION | LOBE_DIFFUSE_TRANSMISSION);
+    EXPECT_EQ(translucent({{"diffuseTransmissionFactor", 0.5}, {"diffuseTransmissionColorFactor", {0, 0, 0}}}).lobes,
+              LOBE_DIFFUSE | LOBE_GGX_REFLECTION);
+    EXPECT_EQ(translucent(json::object()).lobes, LOBE_DIFFUSE | LOBE_GGX_REFLECTION);
+    Material solid = translucent({{"diffuseTransmissionFactor", 1.0}},
+                                 {{"KHR_materials_volume",
+                                   {{"thicknessFactor", 1.0}, {"attenuationDistance", 2.0},
+                                    {"attenuationColor", {1.0, 0.5, 0.5}}}}});
+    EXPECT_EQ(solid.thinWalled, 0);
+    EXPECT_EQ(solid.lobes, LOBE_GGX_REFLECTION | LOBE_DIFFUSE_TRANSMISSION);
+
+    GltfBuilder b = oneTriangle();
+    b.j["materials"][0]["extensions"]["KHR_materials_diffuse_transmission"] = {{"diffuseTransmissionFactor", 1.0}};
+    b.j["materials"][0]["extensions"]["KHR_materials_volume"] = {
+        {"thicknessFactor", 1.0}, {"attenuationDistance", 2.0}, {"attenuationColor", {1.0, 0.5, 0.5}}};
+    Scene s = load(b);
+    EXPECT_TRUE(s.features().volumeAbsorption) << "a diffusely transmitting solid absorbs";
+    EXPECT_FALSE(anyWarningContains(s, "KHR_materials_diffuse_transmission"));
+}
+
+TEST_F(GltfLoader, MaterialDiffuseTransmissionTextureNeedsAnIndex)
+{
+    GltfBuilder b = oneTriangle();
+    b.j["materials"][0]["extensions"]["KHR_materials_diffuse_transmission"] = {
+        {"diffuseTransmissionFactor", 1.0}, {"diffuseTransmissionTexture", {{"texCoord", 0}}}};
+    expectLoadError(b.writeGltf(dir_, "scene"),
+                    "KHR_materials_diffuse_transmission.diffuseTransmissionTexture needs an integer index");
+}
+
 TEST_F(GltfLoader, MaterialIor1GlassHasNoReflection)
 {
     // An interface of ior 1 reflects nothing: only the transmission lobe.

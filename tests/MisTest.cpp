@@ -70,9 +70,16 @@ int expectedTechniques(int k, int mirror, bool deltaLight)
 // delta lobe beside the diffuse one, which connections and merges use); and
 // the same two under KHR_materials_clearcoat's coat, rough (a fourth lobe
 // with its own Fresnel-weighted probability) and smooth (a delta lobe above
-// the GGX one); and a rough layer under KHR_materials_sheen's fibres (a
-// lobe sampled as diffuse is, whose probability follows its albedo table).
-enum class Surface { Lambert, RoughLayer, RoughMetal, SmoothCoat, RoughClearcoat, SmoothClearcoat, Sheen };
+// the GGX one); a rough layer under KHR_materials_sheen's fibres (a
+// lobe sampled as diffuse is, whose probability follows its albedo table);
+// and KHR_materials_diffuse_transmission through a thin wall and into a
+// solid (η inverts inside), where every interior vertex transmits.
+enum class Surface {
+    Lambert, RoughLayer, RoughMetal, SmoothCoat, RoughClearcoat, SmoothClearcoat, Sheen, ThinTranslucent,
+    TranslucentSolid
+};
+
+bool transmits(Surface kind) { return kind == Surface::ThinTranslucent || kind == Surface::TranslucentSolid; }
 
 Material surfaceMaterial(Surface kind)
 {
@@ -120,6 +127,18 @@ Material surfaceMaterial(Surface kind)
         m.sheenRoughness = 0.4f;
         m.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_SHEEN;
         break;
+    case Surface::ThinTranslucent:
+    case Surface::TranslucentSolid:
+        // A specular layer of 0.5 lets some light through even beyond the
+        // critical angle inside the solid, so that every technique samples
+        // every path.
+        m.specular = kind == Surface::TranslucentSolid ? 0.5f : 1.0f;
+        m.roughness = 0.4f;
+        m.diffuseTransmission = 0.6f;
+        for (int c = 0; c < 3; ++c) m.diffuseTransmissionColor[c] = 0.9f - 0.2f * float(c);
+        m.thinWalled = kind == Surface::ThinTranslucent ? 1 : 0;
+        m.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_DIFFUSE_TRANSMISSION;
+        break;
     }
     return m;
 }
@@ -135,7 +154,7 @@ void expectWeightsSumToOne(int lightType, bool withMirror, Surface kind = Surfac
     SceneBuffers buffers(device, scene, bvh, table);
     cl::Program program = test::buildTestProgram(
         device, {test::testKernel("mis_tests.cl")},
-        "-DSCENE_LOBES=255u -DHAS_POINT_LIGHTS -DHAS_DIRECTIONAL_LIGHTS -DHAS_BACKGROUND" +
+        "-DSCENE_LOBES=" + std::to_string(LOBES_ALL) + "u -DHAS_POINT_LIGHTS -DHAS_DIRECTIONAL_LIGHTS -DHAS_BACKGROUND" +
             lightSelectOption(table.info.lightCount));
     cl::Buffer material = uploadBuffer(device, &surface, sizeof surface, "material");
     const bool deltaLight = lightType == LIGHT_POINT || lightType == LIGHT_DIRECTIONAL;
@@ -168,15 +187,24 @@ void expectWeightsSumToOne(int lightType, bool withMirror, Surface kind = Surfac
             expected.push_back(expectedTechniques(k, mirror, deltaLight));
             for (int j = 0; j <= k; ++j) {
                 Vec3 n(0, 0, 1);
+                // Interior vertices reflect (the normal halves the two
+                // directions) or transmit (the normal faces one, away from
+                // the other).
+                Vec3 back, ahead;
+                if (j > 0 && j < k) {
+                    back = normalize(z[size_t(j) - 1] - z[size_t(j)]);
+                    ahead = normalize(z[size_t(j) + 1] - z[size_t(j)]);
+                }
+                const bool transmit = transmits(kind) && j > 0 && j < k && mirror != j;
                 if (j == 0) n = normalize(normalize(z[1] - z[0]) + Vec3(0.3f * u(rng), 0.3f * u(rng), 0.3f * u(rng)));
-                else if (j < k) n = normalize(normalize(z[size_t(j) - 1] - z[size_t(j)]) + normalize(z[size_t(j) + 1] - z[size_t(j)]));
+                else if (j < k) n = normalize(transmit ? back - ahead : back + ahead);
                 // Interior vertices: a shading normal up to ~25° from the
-                // geometric one, with both path directions above it.
+                // geometric one, with both path directions on its side of it.
+                const float side = transmit ? -1.0f : 1.0f;
                 Vec3 ns = n;
                 for (int tries = 0; j > 0 && j < k && tries < 20; ++tries) {
                     Vec3 candidate = normalize(n + Vec3(0.45f * u(rng), 0.45f * u(rng), 0.45f * u(rng)));
-                    if (dot(candidate, normalize(z[size_t(j) - 1] - z[size_t(j)])) > 0.1f &&
-                        dot(candidate, normalize(z[size_t(j) + 1] - z[size_t(j)])) > 0.1f) {
+                    if (dot(candidate, back) > 0.1f && side * dot(candidate, ahead) > 0.1f) {
                         ns = candidate;
                         break;
                     }
@@ -261,7 +289,8 @@ TEST(Mis, WeightsSumToOneForAPointLight)
 TEST(Mis, WeightsSumToOneOnGlossySurfaces)
 {
     for (Surface kind : {Surface::RoughLayer, Surface::RoughMetal, Surface::SmoothCoat, Surface::RoughClearcoat,
-                         Surface::SmoothClearcoat, Surface::Sheen}) {
+                         Surface::SmoothClearcoat, Surface::Sheen, Surface::ThinTranslucent,
+                         Surface::TranslucentSolid}) {
         SCOPED_TRACE("surface " + std::to_string(int(kind)));
         expectWeightsSumToOne(LIGHT_TRIANGLE, false, kind);
         expectWeightsSumToOne(LIGHT_BACKGROUND, true, kind);

@@ -559,6 +559,39 @@ TEST_F(Textures, SpecularTexturesScaleFactorAndColour)
     expectAlphaPngColumns(w, full, weak, size, block);
 }
 
+// KHR_materials_diffuse_transmission's textures: diffuseTransmissionTexture's
+// alpha times diffuseTransmissionFactor, diffuseTransmissionColorTexture's
+// RGB (sRGB-decoded) times diffuseTransmissionColorFactor. A quad that only
+// transmits (black base colour, no specular layer) before a uniform white
+// background, which shows through it; textured as the sheen test's quad is
+// and checked the same way.
+TEST_F(Textures, DiffuseTransmissionTexturesScaleFactorAndColour)
+{
+    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
+    json pbr = {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}};
+    auto quad = [&](const std::string& name, float factor, const char* texture, int index) {
+        json dt = {{"diffuseTransmissionFactor", factor}};
+        if (texture) dt[texture] = {{"index", index}};
+        Scene s = loadGltf(writeQuadWith(name, pbr, clamp, true,
+                                         {{"KHR_materials_diffuse_transmission", dt},
+                                          {"KHR_materials_specular", {{"specularFactor", 0.0}}}}));
+        s.background = {1, 1, 1};
+        return s;
+    };
+    const int size = 32, block = 8, iterations = 16;
+    DeviceInfo device = test::devicesUnderTest()[0];
+    auto render = [&](const Scene& s) { return test::render(device, s, Algorithm::PathTracing, size, size, iterations, 9).image; };
+    Scene coloured = quad("dt-coloured", 1.0f, "diffuseTransmissionColorTexture", 3);
+    Scene weakened = quad("dt-weakened", 1.0f, "diffuseTransmissionTexture", 4);
+    ASSERT_EQ(coloured.materials.at(0).diffuseTransmissionColorTexture, 1);
+    ASSERT_EQ(weakened.materials.at(0).diffuseTransmissionTexture, 1);
+    EXPECT_EQ(coloured.materials.at(0).lobes, LOBE_DIFFUSE_TRANSMISSION);
+    Image c = render(coloured), w = render(weakened), full = render(quad("dt-full", 1.0f, nullptr, 0)),
+          weak = render(quad("dt-weak", 64 / 255.0f, nullptr, 0));
+    expectCoatPngColours(c, full, size, block);
+    expectAlphaPngColumns(w, full, weak, size, block);
+}
+
 // TEXCOORD_1: the base-colour texture read through the second set, which
 // mirrors the first (u along −x), shows each texel in the horizontally
 // opposite corner from where TEXCOORD_0 puts it.

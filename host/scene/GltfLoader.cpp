@@ -335,7 +335,8 @@ const std::set<std::string>& supportedExtensions()
     static const std::set<std::string> s = [] {
         std::set<std::string> names{"KHR_materials_emissive_strength", "KHR_materials_specular",
                                     "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
-                                    "KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_lights_punctual",
+                                    "KHR_materials_clearcoat", "KHR_materials_sheen",
+                                    "KHR_materials_diffuse_transmission", "KHR_lights_punctual",
                                     "EXT_texture_webp", "KHR_mesh_quantization", "KHR_texture_transform"};
         if (dracoSupported()) names.insert("KHR_draco_mesh_compression");
         return names;
@@ -555,6 +556,22 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
                 warnOnce(name + ": the clearcoat follows the base's normal texture, where glTF leaves the coat unmapped");
         }
     }
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_diffuse_transmission")) {
+        out.diffuseTransmission = clamp01(number(*e, "diffuseTransmissionFactor", 0.0));
+        for (int c = 0; c < 3; ++c) out.diffuseTransmissionColor[c] = 1.0f;
+        if (e->Has("diffuseTransmissionColorFactor") && e->Get("diffuseTransmissionColorFactor").IsArray() &&
+            e->Get("diffuseTransmissionColorFactor").ArrayLen() == 3)
+            for (int c = 0; c < 3; ++c)
+                out.diffuseTransmissionColor[c] =
+                    clamp01(e->Get("diffuseTransmissionColorFactor").Get(c).GetNumberAsDouble());
+        if (out.diffuseTransmission > 0) {
+            out.diffuseTransmissionTexture = extensionTexture(*e, "KHR_materials_diffuse_transmission",
+                                                              "diffuseTransmissionTexture", "diffuse transmission");
+            out.diffuseTransmissionColorTexture =
+                extensionTexture(*e, "KHR_materials_diffuse_transmission", "diffuseTransmissionColorTexture",
+                                 "diffuse transmission colour", true);
+        }
+    }
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_volume")) {
         out.thinWalled = number(*e, "thicknessFactor", 0.0) > 0.0 ? 0 : 1;
         out.attenuationDistance = float(std::max(0.0, number(*e, "attenuationDistance", 0.0)));
@@ -575,12 +592,17 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     // A transmission texture scales transmission down anywhere to 0: the
     // diffuse lobe must then be there too.
     float opaquePart = out.transmissionTexture > 0 ? 1.0f : 1.0f - out.transmission;
-    bool diffuse = dielectric * opaquePart > 0 && maxOf(out.baseColor) > 0;
+    // Diffuse transmission takes its share of the diffuse part; its texture
+    // scales it down anywhere to 0, which the reflecting share then covers.
+    float reflectedPart = out.diffuseTransmissionTexture > 0 ? 1.0f : 1.0f - out.diffuseTransmission;
+    bool diffuse = dielectric * opaquePart * reflectedPart > 0 && maxOf(out.baseColor) > 0;
+    bool diffuseTransmits = dielectric * opaquePart * out.diffuseTransmission > 0 && maxOf(out.diffuseTransmissionColor) > 0;
     bool metalReflects = out.metallic > 0 && maxOf(out.baseColor) > 0;
     bool dielectricReflects = dielectric > 0 && out.ior != 1.0f &&
                               ((out.specular > 0 && maxOf(out.specularColor) > 0) || out.transmission > 0);
     bool transmits = dielectric * out.transmission > 0;
     if (diffuse) out.lobes |= LOBE_DIFFUSE;
+    if (diffuseTransmits) out.lobes |= LOBE_DIFFUSE_TRANSMISSION;
     if (metalReflects || dielectricReflects) out.lobes |= smooth ? LOBE_DELTA_REFLECTION : LOBE_GGX_REFLECTION;
     if (transmits) out.lobes |= smooth ? LOBE_DELTA_TRANSMISSION : LOBE_GGX_TRANSMISSION;
     if (out.clearcoat > 0)

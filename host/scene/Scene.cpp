@@ -26,7 +26,7 @@ SceneFeatures Scene::features() const
         }
         if (materials[m].alphaMode != ALPHA_OPAQUE) f.alphaTest = true;
         const Material& mat = materials[m];
-        if (!mat.thinWalled && mat.attenuationDistance > 0 && (mat.lobes & (LOBE_GGX_TRANSMISSION | LOBE_DELTA_TRANSMISSION)) &&
+        if (!mat.thinWalled && mat.attenuationDistance > 0 && (mat.lobes & (LOBE_GGX_TRANSMISSION | LOBE_DELTA_TRANSMISSION | LOBE_DIFFUSE_TRANSMISSION)) &&
             std::min({mat.attenuationColor[0], mat.attenuationColor[1], mat.attenuationColor[2]}) < 1)
             f.volumeAbsorption = true;
     }

@@ -91,10 +91,12 @@ typedef struct Camera {
 #define LOBE_GGX_COAT 32u   /* KHR_materials_clearcoat: a GGX reflection on top of the others */
 #define LOBE_DELTA_COAT 64u /* the same, smooth */
 #define LOBE_SHEEN 128u     /* KHR_materials_sheen: fibres over the diffuse and reflection lobes */
-#define LOBES_ALL 255u
+#define LOBE_DIFFUSE_TRANSMISSION 256u /* KHR_materials_diffuse_transmission: Lambert through the surface */
+#define LOBES_ALL 511u
 
 /* The glTF metallic-roughness model with KHR_materials_specular,
- * _transmission, _ior, _volume, _clearcoat, _sheen and _emissive_strength folded in;
+ * _transmission, _diffuse_transmission, _ior, _volume, _clearcoat, _sheen
+ * and _emissive_strength folded in;
  * see docs/scenes.md, "Materials", for the mapping. */
 typedef struct Material {
     float baseColor[3];
@@ -129,7 +131,10 @@ typedef struct Material {
     int sheenRoughnessTexture; /* the same; its alpha scales sheenRoughness */
     int specularTexture;       /* the same; its alpha scales specular (KHR_materials_specular) */
     int specularColorTexture;  /* the same; its RGB (sRGB-decoded) scales specularColor */
-    int pad[2];
+    float diffuseTransmission; /* KHR_materials_diffuse_transmission diffuseTransmissionFactor; 0: none */
+    float diffuseTransmissionColor[3]; /* diffuseTransmissionColorFactor */
+    int diffuseTransmissionTexture;      /* 1 + its index in the texture table; its alpha scales diffuseTransmission */
+    int diffuseTransmissionColorTexture; /* the same; its RGB (sRGB-decoded) scales diffuseTransmissionColor */
 } Material;
 
 /* glTF alphaMode. */

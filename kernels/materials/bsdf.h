@@ -1,6 +1,7 @@
-/* The BSDF of a glTF material (docs/scenes.md): up to five lobes —
+/* The BSDF of a glTF material (docs/scenes.md): up to six lobes —
  * reflection (metal plus the dielectric specular layer; GGX or smooth),
- * transmission (GGX or smooth), Lambert diffuse, a sheen of fibres over them
+ * transmission (GGX or smooth), Lambert diffuse, Lambert diffuse
+ * transmission (KHR_materials_diffuse_transmission), a sheen of fibres over them
  * (KHR_materials_sheen, materials/sheen.h) and a clear coat over all
  * (KHR_materials_clearcoat; GGX or smooth) — with lobes the scene lacks
  * compiled out through SCENE_LOBES.
@@ -35,13 +36,16 @@ typedef struct Bsdf {
     uint lobes;
     float alpha;          /* GGX α = roughness² */
     float eta;            /* η_t / η_i for light crossing from wo's side */
-    bool refracts;        /* transmission bends (a solid, not thin-walled) */
+    bool solid;           /* light enters a closed solid (not thin-walled): transmission
+                             bends, η inverts inside */
     vec3 metalF0;       /* base colour, Schlick's F0 for the metal part */
     float metallic;
     vec3 specularTint;  /* (1 − metallic) · specularFactor · specularColor */
     float specular;     /* (1 − metallic) · specularFactor */
     vec3 transmitColor; /* (1 − metallic) · transmission · base colour */
-    vec3 diffuseColor;  /* (1 − metallic) · (1 − transmission) · base colour */
+    vec3 diffuseColor;  /* (1 − metallic) · (1 − transmission) · (1 − diffuse transmission) · base colour */
+    vec3 diffuseTransmitColor; /* (1 − metallic) · (1 − transmission) · diffuse transmission · its colour */
+    float diffuseTransmitShare; /* of the diffuse lobes' probability, diffuse transmission's */
     float coat;         /* the clear coat's weight on wo's side (0: none there) */
     float coatBack;     /* the same on the other side, which transmission crosses */
     float coatAlpha;    /* the coat's GGX α */
@@ -49,7 +53,7 @@ typedef struct Bsdf {
     float sheenRoughness;
     float sheen;        /* max(sheenColor) on wo's side (0: no sheen there) */
     float sheenBack;    /* the same on the other side */
-    vec3 lobeProb;      /* probabilities of picking reflection, transmission, diffuse at wo */
+    vec3 lobeProb;      /* probabilities of picking reflection, transmission, diffuse (both ways) at wo */
     float coatProb;     /* that of picking the coat */
     float sheenProb;    /* that of picking the sheen; the five sum to 1 */
 } Bsdf;
@@ -83,6 +87,15 @@ INLINE vec3 reflectance(const Bsdf* b, float cosH, float eta)
 INLINE float layer_transmittance(const Bsdf* b, float cosH, float eta)
 {
     return 1.0f - b->specular * layer_fresnel(b, cosH, eta);
+}
+
+/* What the interface itself lets through at cos θ from the side of relative
+ * index eta: nothing beyond the critical angle, whatever the specular
+ * layer's weight (Snell's law, not Fresnel's), else the layer's
+ * transmittance. */
+INLINE float interface_transmittance(const Bsdf* b, float cosW, float eta)
+{
+    return 1.0f - cosW * cosW >= eta * eta ? 0.0f : layer_transmittance(b, cosW, eta);
 }
 
 /* The clear coat (KHR_materials_clearcoat): glTF's dielectric layer of
@@ -144,9 +157,14 @@ INLINE vec3 lobe_probabilities(const Bsdf* b, float cosW, float eta, bool back, 
      * even where the macro-surface reflects totally (through = 0 beyond the
      * critical angle), and a zero probability would zero its f and pdfs
      * there, breaking reciprocity with the other side. */
-    float tThrough = ((b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts) ? fmax(through, 0.1f) : through;
+    float tThrough = ((b->lobes & LOBE_GGX_TRANSMISSION) && b->solid) ? fmax(through, 0.1f) : through;
     float t = (b->lobes & LOBES_TRANSMIT) ? tThrough * luminance(b->transmitColor) : 0.0f;
     float d = (b->lobes & LOBE_DIFFUSE) ? through * luminance(b->diffuseColor) : 0.0f;
+#if SCENE_LOBES & LOBE_DIFFUSE_TRANSMISSION
+    /* Both diffuse lobes see the layers at w alike, so diffuse transmission
+     * takes a fixed share of their probability, whichever side w is on. */
+    d += (b->lobes & LOBE_DIFFUSE_TRANSMISSION) ? through * luminance(b->diffuseTransmitColor) : 0.0f;
+#endif
     float sum = r + t + d;
     /* Written out, not left at 0 to fold: a float + 0 or 0 / sum does not. */
 #if SCENE_LOBES & LOBE_SHEEN
@@ -181,6 +199,8 @@ typedef struct SurfaceMaterial {
     float clearcoat, clearcoatRoughness;
     vec3 sheenColor;
     float sheenRoughness;
+    float diffuseTransmission;
+    vec3 diffuseTransmissionColor;
 } SurfaceMaterial;
 
 /* The factors alone (untextured). */
@@ -197,6 +217,8 @@ INLINE SurfaceMaterial material_factors(__global const Material* m)
     s.clearcoatRoughness = m->clearcoatRoughness;
     s.sheenColor = load3(m->sheenColor);
     s.sheenRoughness = m->sheenRoughness;
+    s.diffuseTransmission = m->diffuseTransmission;
+    s.diffuseTransmissionColor = load3(m->diffuseTransmissionColor);
     return s;
 }
 
@@ -209,22 +231,35 @@ INLINE Bsdf make_bsdf(__global const Material* m, const SurfaceMaterial* at, vec
     b.lobes = m->lobes & SCENE_LOBES;
     vec3 base = at->baseColor;
     b.alpha = fmax(at->roughness * at->roughness, 1e-3f);
-    b.refracts = (b.lobes & LOBES_TRANSMIT) != 0u && !m->thinWalled;
+    b.solid = (b.lobes & (LOBES_TRANSMIT | LOBE_DIFFUSE_TRANSMISSION)) != 0u && !m->thinWalled;
     /* Opaque and thin-walled surfaces are two-sided: their Fresnel always
      * sees air → material. A refracting solid sees the inverse from inside. */
-    b.eta = (b.refracts && !frontSide) ? 1.0f / m->ior : m->ior;
+    b.eta = (b.solid && !frontSide) ? 1.0f / m->ior : m->ior;
     float dielectric = 1.0f - at->metallic;
     b.metallic = at->metallic;
     b.metalF0 = base;
     b.specular = m->ior == 1.0f ? 0.0f : dielectric * at->specular; /* index-matched: no reflection */
     b.specularTint = v3_scale(at->specularColor, b.specular);
     b.transmitColor = v3_scale(base, dielectric * at->transmission);
-    b.diffuseColor = v3_scale(base, dielectric * (1.0f - at->transmission));
+    float diffuse = dielectric * (1.0f - at->transmission);
+#if SCENE_LOBES & LOBE_DIFFUSE_TRANSMISSION
+    /* KHR_materials_diffuse_transmission splits the diffuse part between
+     * reflection (base colour) and transmission (its own colour). */
+    float dt = (b.lobes & LOBE_DIFFUSE_TRANSMISSION) ? at->diffuseTransmission : 0.0f;
+    b.diffuseColor = v3_scale(base, diffuse * (1.0f - dt));
+    b.diffuseTransmitColor = v3_scale(at->diffuseTransmissionColor, diffuse * dt);
+    float dtLum = luminance(b.diffuseTransmitColor), diffuseLum = dtLum + luminance(b.diffuseColor);
+    b.diffuseTransmitShare = diffuseLum > 0.0f ? dtLum / diffuseLum : 0.0f;
+#else
+    b.diffuseColor = v3_scale(base, diffuse);
+    b.diffuseTransmitColor = v3s(0.0f);
+    b.diffuseTransmitShare = 0.0f;
+#endif
 #if SCENE_LOBES & LOBES_COAT
     /* A refracting solid is coated outside; a two-sided surface on both faces. */
     float coat = (b.lobes & LOBES_COAT) ? at->clearcoat : 0.0f;
-    b.coat = (b.refracts && !frontSide) ? 0.0f : coat;
-    b.coatBack = (b.refracts && frontSide) ? 0.0f : coat;
+    b.coat = (b.solid && !frontSide) ? 0.0f : coat;
+    b.coatBack = (b.solid && frontSide) ? 0.0f : coat;
     b.coatAlpha = fmax(at->clearcoatRoughness * at->clearcoatRoughness, 1e-3f);
 #else
     b.coat = b.coatBack = 0.0f;
@@ -233,8 +268,8 @@ INLINE Bsdf make_bsdf(__global const Material* m, const SurfaceMaterial* at, vec
 #if SCENE_LOBES & LOBE_SHEEN
     /* Sided as the coat is. */
     float sheen = (b.lobes & LOBE_SHEEN) ? max_component(at->sheenColor) : 0.0f;
-    b.sheen = (b.refracts && !frontSide) ? 0.0f : sheen;
-    b.sheenBack = (b.refracts && frontSide) ? 0.0f : sheen;
+    b.sheen = (b.solid && !frontSide) ? 0.0f : sheen;
+    b.sheenBack = (b.solid && frontSide) ? 0.0f : sheen;
     b.sheenColor = at->sheenColor;
     b.sheenRoughness = at->sheenRoughness;
 #else
@@ -254,6 +289,9 @@ INLINE float continuation_probability(const Bsdf* b)
 {
     vec3 albedo = v3_add(v3_add(v3_add(v3_scale(b->metalF0, b->metallic), b->specularTint), b->transmitColor),
                          b->diffuseColor);
+#if SCENE_LOBES & LOBE_DIFFUSE_TRANSMISSION
+    albedo = v3_add(albedo, b->diffuseTransmitColor);
+#endif
     float bound = max_component(albedo);
     /* The layers' weights whichever side they are on, so that both sides agree. */
 #if SCENE_LOBES & LOBES_COAT
@@ -271,7 +309,7 @@ INLINE float continuation_probability(const Bsdf* b)
 INLINE bool material_has_nondelta(__global const Material* m)
 {
     return (m->lobes & SCENE_LOBES & (LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_GGX_TRANSMISSION | LOBE_GGX_COAT |
-                                          LOBE_SHEEN)) != 0u;
+                                          LOBE_SHEEN | LOBE_DIFFUSE_TRANSMISSION)) != 0u;
 }
 
 INLINE bool bsdf_is_black(const Bsdf* b)
@@ -291,7 +329,7 @@ INLINE bool bsdf_is_black(const Bsdf* b)
 INLINE bool bsdf_has_nondelta(const Bsdf* b)
 {
     return b->lobeProb.z > 0.0f || (b->lobeProb.x > 0.0f && (b->lobes & LOBE_GGX_REFLECTION)) ||
-           (b->lobeProb.y > 0.0f && (b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts) ||
+           (b->lobeProb.y > 0.0f && (b->lobes & LOBE_GGX_TRANSMISSION) && b->solid) ||
            (b->coatProb > 0.0f && (b->lobes & LOBE_GGX_COAT)) || b->sheenProb > 0.0f;
 }
 
@@ -330,8 +368,9 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
              * transmittances, so the lobe is reciprocal. */
             f = v3_add(f, v3_scale(b->diffuseColor, under * layer_transmittance(b, wo.z, b->eta) *
                                                         layer_transmittance(b, wi.z, b->eta) * INV_PI_F));
-            *pdfFwd += b->lobeProb.z * wi.z * INV_PI_F;
-            *pdfRev += probRev.z * wo.z * INV_PI_F;
+            float share = 1.0f - b->diffuseTransmitShare;
+            *pdfFwd += b->lobeProb.z * share * wi.z * INV_PI_F;
+            *pdfRev += probRev.z * share * wo.z * INV_PI_F;
         }
 #endif
 #if SCENE_LOBES & LOBE_GGX_REFLECTION
@@ -365,7 +404,7 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
 #endif
     } else {
 #if SCENE_LOBES & LOBE_GGX_TRANSMISSION
-        if (b->lobeProb.y > 0.0f && (b->lobes & LOBE_GGX_TRANSMISSION) && b->refracts) {
+        if (b->lobeProb.y > 0.0f && (b->lobes & LOBE_GGX_TRANSMISSION) && b->solid) {
             vec3 h = refraction_half_vector(wo, wi, b->eta);
             float oh = v3_dot(wo, h), ih = v3_dot(wi, h);
             if (oh > 0.0f && ih < 0.0f) { /* a microfacet both directions see */
@@ -385,6 +424,32 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
                 *pdfRev += probRev.y * ggx_visible_pdf(wiUp, hUp, b->alpha) *
                            refraction_jacobian(-ih, -oh, 1.0f / b->eta);
             }
+        }
+#endif
+#if SCENE_LOBES & LOBE_DIFFUSE_TRANSMISSION
+        if (b->diffuseTransmitShare > 0.0f) { /* even where wo cannot pass: pdfRev */
+            /* Lambert through the surface and the layers on both sides (of
+             * a solid, η inverts at wi). Into a solid it keeps refraction's
+             * convention, as a rough interface would: the adjoint value
+             * carries max(η², 1) and the radiance value that over η², so
+             * f(wi, wo) = η² f(wo, wi) (generalised reciprocity). Inside,
+             * only the cone within the critical angle passes, a 1/η² share
+             * of the cosine-weighted hemisphere, so light entering from
+             * outside keeps all of what the layers let through: with F̄ the
+             * Fresnel reflectance averaged over that hemisphere,
+             * η² (1 − F̄_inside) = 1 − F̄_outside. */
+            float etaBack = b->solid ? 1.0f / b->eta : b->eta;
+            float value = interface_transmittance(b, wo.z, b->eta) * layers_through(b, false, wo.z) *
+                          interface_transmittance(b, -wi.z, etaBack) * layers_through(b, true, wi.z) * INV_PI_F;
+            if (b->solid) {
+                float eta2 = b->eta * b->eta;
+                value *= adjoint ? fmax(eta2, 1.0f) : fmax(1.0f, 1.0f / eta2);
+            }
+            f = v3_add(f, v3_scale(b->diffuseTransmitColor, value));
+            *pdfFwd += b->lobeProb.z * b->diffuseTransmitShare * -wi.z * INV_PI_F;
+            float coatRev, sheenRev;
+            vec3 probRev = lobe_probabilities(b, -wi.z, etaBack, true, &coatRev, &sheenRev);
+            *pdfRev += probRev.z * b->diffuseTransmitShare * wo.z * INV_PI_F;
         }
 #endif
     }
@@ -419,11 +484,11 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
         return false;
 #endif
     } else if (u1 < pR + pT) {
-        if ((b->lobes & LOBE_DELTA_TRANSMISSION) || !b->refracts) {
+        if ((b->lobes & LOBE_DELTA_TRANSMISSION) || !b->solid) {
             float T = layer_transmittance(b, wo.z, b->eta) * layers_through(b, false, wo.z);
             s->delta = true;
             s->pdf = s->pdfRev = pT;
-            if (!b->refracts) { /* thin-walled: straight through */
+            if (!b->solid) { /* thin-walled: straight through */
                 s->wi = v3_neg(wo);
                 s->weight = v3_scale(b->transmitColor, T * layers_through(b, true, wo.z) / pT);
                 return true;
@@ -455,10 +520,14 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
         if (s->wi.z <= 0.0f)
             return false;
 #endif
-    } else { /* diffuse or sheen */
+    } else { /* diffuse, diffuse transmission (the first part of the range) or sheen */
         s->wi = sample_cosine_hemisphere(u2, u3);
         if (s->wi.z <= 0.0f)
             return false;
+#if SCENE_LOBES & LOBE_DIFFUSE_TRANSMISSION
+        if (u1 < pR + pT + b->lobeProb.z * b->diffuseTransmitShare)
+            s->wi.z = -s->wi.z;
+#endif
     }
     vec3 f = bsdf_eval(b, wo, s->wi, adjoint, &s->pdf, &s->pdfRev);
     if (!(s->pdf > 0.0f))

@@ -127,7 +127,8 @@ INLINE float vertex_alpha(const RenderBuffers* b, int tri, vec2 bary)
  * RGB, the metallic-roughness texture's B (metallic) and G (roughness), the
  * transmission texture's R, the specular layer's alpha (factor) and RGB
  * (colour), the clear coat's R (weight) and G (roughness), the sheen's RGB
- * (colour) and alpha (roughness). */
+ * (colour) and alpha (roughness), diffuse transmission's alpha (factor) and
+ * RGB (colour). */
 INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const Material* m, int tri, vec2 bary)
 {
     SurfaceMaterial s = material_factors(m);
@@ -159,6 +160,13 @@ INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const M
         s.sheenColor = v3_mul(s.sheenColor, scene_texture(b, m->sheenColorTexture, tri, bary));
     if (m->sheenRoughnessTexture > 0)
         s.sheenRoughness *= scene_texture_alpha(b, m->sheenRoughnessTexture, tri, bary);
+#endif
+#if SCENE_LOBES & LOBE_DIFFUSE_TRANSMISSION
+    if (m->diffuseTransmissionTexture > 0)
+        s.diffuseTransmission *= scene_texture_alpha(b, m->diffuseTransmissionTexture, tri, bary);
+    if (m->diffuseTransmissionColorTexture > 0)
+        s.diffuseTransmissionColor =
+            v3_mul(s.diffuseTransmissionColor, scene_texture(b, m->diffuseTransmissionColorTexture, tri, bary));
 #endif
 #endif
     return s;

@@ -44,7 +44,7 @@ INLINE bool scatter(const Bsdf* bsdf, const SurfaceHit* hit, vec3 wo, vec3 woL, 
     s->revPdfW = bs.pdfRev;
     s->misCos = mis_cos(hit->ngF, s->wi);
     s->delta = bs.delta;
-    s->refracted = bsdf->refracts && bs.wi.z < 0.0f;
+    s->refracted = bsdf->solid && bs.wi.z < 0.0f;
     return true;
 }
 

@@ -1,5 +1,5 @@
 /* Test-only kernel: for one fixed path z_0 (on a light) … z_k (the camera)
- * over Lambertian vertices, one of which may be a mirror, the VCM weights of
+ * over vertices of one material, one of which may be a mirror, the VCM weights of
  * every technique that samples it, computed with the production MIS
  * quantities and weights (mis.h) from the production BSDF's densities
  * (bsdf.h) and, for lights without a surface, the production light and
@@ -18,13 +18,16 @@ typedef struct Densities {
     float fwd, rev, cont; /* fixed→out, out→fixed (both solid angle), continuation probability */
 } Densities;
 
-/* The BSDF at a vertex with normal n: densities of `out` given `fixed` and back. */
+/* The BSDF at a vertex with normal n: densities of `out` given `fixed` and
+ * back. Its frame is turned to fixed's side, as the kernels turn it to wo's
+ * (out may lie on the other side: a transmitting vertex). */
 INLINE Densities densities(__global const Material* m, float3 n, float3 fixed, float3 out)
 {
-    Frame f = frame_from_normal(from_float3(n));
+    bool frontSide = dot(n, fixed) > 0.0f;
+    Frame f = frame_from_normal(from_float3(frontSide ? n : -n));
     vec3 a = to_local(&f, from_float3(fixed)), b = to_local(&f, from_float3(out));
     SurfaceMaterial at = material_factors(m);
-    Bsdf bsdf = make_bsdf(m, &at, a, true);
+    Bsdf bsdf = make_bsdf(m, &at, a, frontSide);
     Densities d;
     bsdf_eval(&bsdf, a, b, false, &d.fwd, &d.rev);
     d.cont = continuation_probability(&bsdf);
