@@ -863,6 +863,42 @@ TEST_F(GltfLoader, MaterialDiffuseTransmission)
     EXPECT_FALSE(anyWarningContains(s, "KHR_materials_diffuse_transmission"));
 }
 
+// KHR_materials_anisotropy: the strength (default 0) and the rotation's
+// cosine and sine (default 0 rad); a smooth material made anisotropic is
+// rough along the direction (a GGX lobe); tangents for its triangles (a
+// primitive without TANGENT or texture coordinates gets an arbitrary one,
+// with a warning); a rotation that is not a number leaves the default.
+TEST_F(GltfLoader, MaterialAnisotropy)
+{
+    auto brushed = [&](json anisotropy, double roughness = 0.3) {
+        return loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", roughness}}},
+                             {"extensions", {{"KHR_materials_anisotropy", anisotropy}}}});
+    };
+    Material m = brushed({{"anisotropyStrength", 0.6}, {"anisotropyRotation", 1.0}});
+    EXPECT_FLOAT_EQ(m.anisotropy, 0.6f);
+    EXPECT_FLOAT_EQ(m.anisotropyRotation[0], std::cos(1.0f));
+    EXPECT_FLOAT_EQ(m.anisotropyRotation[1], std::sin(1.0f));
+    EXPECT_EQ(m.lobes, LOBE_GGX_REFLECTION);
+    Material plain = brushed(json::object());
+    EXPECT_EQ(plain.anisotropy, 0.0f);
+    EXPECT_FLOAT_EQ(plain.anisotropyRotation[0], 1.0f);
+    EXPECT_EQ(brushed({{"anisotropyStrength", 0.5}}, 0.0).lobes, LOBE_GGX_REFLECTION) << "rough along the direction";
+    EXPECT_EQ(brushed(json::object(), 0.0).lobes, LOBE_DELTA_REFLECTION);
+
+    GltfBuilder b = oneTriangle();
+    b.j["materials"][0]["extensions"]["KHR_materials_anisotropy"] = {{"anisotropyStrength", 1.0}};
+    Scene s = load(b);
+    EXPECT_TRUE(s.features().anisotropy);
+    ASSERT_EQ(s.tangents.size(), 3u);
+    EXPECT_NEAR(std::abs(s.tangents[0][2]), 0.0f, 1e-6f) << "perpendicular to the normal (0, 0, 1)";
+    EXPECT_TRUE(anyWarningContains(s, "anisotropic material without TANGENT or texture coordinates"));
+    EXPECT_FALSE(anyWarningContains(s, "KHR_materials_anisotropy"));
+
+    b.j["materials"][0]["extensions"]["KHR_materials_anisotropy"] = {{"anisotropyStrength", 1.0},
+                                                                     {"anisotropyRotation", "north"}};
+    EXPECT_FLOAT_EQ(load(b).materials.at(0).anisotropyRotation[0], 1.0f) << "not a number: the default";
+}
+
 TEST_F(GltfLoader, MaterialDiffuseTransmissionTextureNeedsAnIndex)
 {
     GltfBuilder b = oneTriangle();

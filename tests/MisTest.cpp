@@ -72,11 +72,12 @@ int expectedTechniques(int k, int mirror, bool deltaLight)
 // with its own Fresnel-weighted probability) and smooth (a delta lobe above
 // the GGX one); a rough layer under KHR_materials_sheen's fibres (a
 // lobe sampled as diffuse is, whose probability follows its albedo table);
-// and KHR_materials_diffuse_transmission through a thin wall and into a
-// solid (η inverts inside), where every interior vertex transmits.
+// KHR_materials_diffuse_transmission through a thin wall and into a solid
+// (η inverts inside), where every interior vertex transmits; and a rough
+// layer made anisotropic (KHR_materials_anisotropy).
 enum class Surface {
     Lambert, RoughLayer, RoughMetal, SmoothCoat, RoughClearcoat, SmoothClearcoat, Sheen, ThinTranslucent,
-    TranslucentSolid
+    TranslucentSolid, Brushed
 };
 
 bool transmits(Surface kind) { return kind == Surface::ThinTranslucent || kind == Surface::TranslucentSolid; }
@@ -139,6 +140,14 @@ Material surfaceMaterial(Surface kind)
         m.thinWalled = kind == Surface::ThinTranslucent ? 1 : 0;
         m.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION | LOBE_DIFFUSE_TRANSMISSION;
         break;
+    case Surface::Brushed:
+        m.specular = 1;
+        m.roughness = 0.3f;
+        m.anisotropy = 0.8f;
+        m.anisotropyRotation[0] = std::cos(0.7f);
+        m.anisotropyRotation[1] = std::sin(0.7f);
+        m.lobes = LOBE_DIFFUSE | LOBE_GGX_REFLECTION;
+        break;
     }
     return m;
 }
@@ -154,7 +163,7 @@ void expectWeightsSumToOne(int lightType, bool withMirror, Surface kind = Surfac
     SceneBuffers buffers(device, scene, bvh, table);
     cl::Program program = test::buildTestProgram(
         device, {test::testKernel("mis_tests.cl")},
-        "-DSCENE_LOBES=" + std::to_string(LOBES_ALL) + "u -DHAS_POINT_LIGHTS -DHAS_DIRECTIONAL_LIGHTS -DHAS_BACKGROUND" +
+        "-DHAS_ANISOTROPY -DSCENE_LOBES=" + std::to_string(LOBES_ALL) + "u -DHAS_POINT_LIGHTS -DHAS_DIRECTIONAL_LIGHTS -DHAS_BACKGROUND" +
             lightSelectOption(table.info.lightCount));
     cl::Buffer material = uploadBuffer(device, &surface, sizeof surface, "material");
     const bool deltaLight = lightType == LIGHT_POINT || lightType == LIGHT_DIRECTIONAL;
@@ -290,7 +299,7 @@ TEST(Mis, WeightsSumToOneOnGlossySurfaces)
 {
     for (Surface kind : {Surface::RoughLayer, Surface::RoughMetal, Surface::SmoothCoat, Surface::RoughClearcoat,
                          Surface::SmoothClearcoat, Surface::Sheen, Surface::ThinTranslucent,
-                         Surface::TranslucentSolid}) {
+                         Surface::TranslucentSolid, Surface::Brushed}) {
         SCOPED_TRACE("surface " + std::to_string(int(kind)));
         expectWeightsSumToOne(LIGHT_TRIANGLE, false, kind);
         expectWeightsSumToOne(LIGHT_BACKGROUND, true, kind);

@@ -47,7 +47,7 @@ SceneFeatures everyFeature()
     all.lobes = LOBES_ALL;
     all.pointLights = all.spotLights = all.directionalLights = all.emissiveTriangles = all.background = true;
     all.environmentMap = all.textures = all.normalMaps = all.alphaTest = all.emissiveTextures = all.texCoord1 = true;
-    all.volumeAbsorption = all.vertexColors = true;
+    all.volumeAbsorption = all.vertexColors = all.tangents = all.anisotropy = true;
     return all;
 }
 

@@ -223,4 +223,19 @@ void expectPtBptVcmAgree(const Scene& scene, int ptIterationFactor)
     EXPECT_EQ(tilesDisagreeing(vcm, bpt, 8, 5.0), 0) << "vcm";
 }
 
+double blockMean(const Image& image, int size, int x0, int y0, int block, int c, double* se)
+{
+    double sum = 0, sq = 0;
+    for (int y = y0; y < y0 + block; ++y)
+        for (int x = x0; x < x0 + block; ++x) {
+            double v = image.rgb[3 * (size_t(y) * size_t(size) + size_t(x)) + size_t(c)];
+            sum += v;
+            sq += v * v;
+        }
+    int n = block * block;
+    double mean = sum / n;
+    *se = std::sqrt(std::max(0.0, sq / n - mean * mean) / n);
+    return mean;
+}
+
 } // namespace wv::test

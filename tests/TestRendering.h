@@ -85,6 +85,10 @@ int tilesDisagreeing(const std::vector<Image>& a, const std::vector<Image>& b, i
 // where its estimator has a heavy tail the others do not).
 void expectPtBptVcmAgree(const Scene& scene, int ptIterationFactor);
 
+// The mean of channel c over the block × block pixels from (x0, y0) of a
+// size × size image, and its standard error from the pixels' spread.
+double blockMean(const Image& image, int size, int x0, int y0, int block, int c, double* se);
+
 // Each of `algorithms`, rendered like `reference` (renderSeeds with `seeds`
 // seeds at width × height, `iterations` each), agrees with it on every 8×8
 // block within 5 seed-to-seed standard errors, and every block is compared.

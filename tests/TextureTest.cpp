@@ -68,6 +68,19 @@ protected:
         Image alpha(2, 2);
         alpha.alpha = {1, 64 / 255.0f, 1, 64 / 255.0f};
         writeImage((dir_ / "alpha.png").string(), alpha);
+        // Anisotropy data: RG directions (1, −1) in the left column, (1, 1)
+        // in the right; B (strength) 1 in the top row, 0 in the bottom one.
+        Image anisotropy(2, 2);
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x) {
+                anisotropy.rgb[3 * size_t(2 * y + x)] = 1;
+                anisotropy.rgb[3 * size_t(2 * y + x) + 1] = float(x);
+                anisotropy.rgb[3 * size_t(2 * y + x) + 2] = float(1 - y);
+            }
+        writeImage((dir_ / "anisotropy.png").string(), anisotropy);
+        Image diagonal(1, 1); // the direction (1, −1) at strength 1 everywhere
+        diagonal.rgb = {1, 0, 1};
+        writeImage((dir_ / "diagonal.png").string(), diagonal);
     }
     void TearDown() override { fs::remove_all(dir_); }
 
@@ -79,7 +92,7 @@ protected:
 
     // The same with the material's pbrMetallicRoughness given whole; texture
     // 0 is texture.png, texture 1 mr.png, texture 2 transmission.png, texture 3 coat.png,
-    // texture 4 alpha.png; more
+    // texture 4 alpha.png, texture 5 anisotropy.png, texture 6 diagonal.png; more
     // material extensions (KHR_materials_*) in `extensions`.
     std::string writeQuadWith(const std::string& name, const json& pbr, const json& sampler, bool uvs = true,
                               json extensions = json::object())
@@ -92,7 +105,8 @@ protected:
         quad.material = {{"pbrMetallicRoughness", pbr}, {"extensions", extensions}};
         quad.extensionsUsed = {"KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_clearcoat",
                                "KHR_materials_sheen"};
-        quad.images = {"texture.png", "mr.png", "transmission.png", "coat.png", "alpha.png"};
+        quad.images = {"texture.png", "mr.png", "transmission.png", "coat.png", "alpha.png", "anisotropy.png",
+                       "diagonal.png"};
         quad.sampler = sampler;
         quad.uvs = uvs;
         return test::writeQuad(dir_, name, quad);
@@ -108,22 +122,7 @@ bool anyWarningContains(const Scene& s, const std::string& text)
     return false;
 }
 
-// The mean of channel c over the block × block pixels from (x0, y0) of a
-// size × size image, and its standard error from the pixels' spread.
-double blockMean(const Image& image, int size, int x0, int y0, int block, int c, double* se)
-{
-    double sum = 0, sq = 0;
-    for (int y = y0; y < y0 + block; ++y)
-        for (int x = x0; x < x0 + block; ++x) {
-            double v = image.rgb[3 * (size_t(y) * size_t(size) + size_t(x)) + size_t(c)];
-            sum += v;
-            sq += v * v;
-        }
-    int n = block * block;
-    double mean = sum / n;
-    *se = std::sqrt(std::max(0.0, sq / n - mean * mean) / n);
-    return mean;
-}
+using test::blockMean;
 
 // Each corner block × block of a size × size image shows texel
 // texelAtCorner[corner] of `texture` (corners: top left, top right, bottom
@@ -590,6 +589,108 @@ TEST_F(Textures, DiffuseTransmissionTexturesScaleFactorAndColour)
           weak = render(quad("dt-weak", 64 / 255.0f, nullptr, 0));
     expectCoatPngColours(c, full, size, block);
     expectAlphaPngColumns(w, full, weak, size, block);
+}
+
+// A brushed metal quad (KHR_materials_anisotropy: roughness 0.2, strength 1,
+// the given rotation, the anisotropy texture or none) under a point light
+// beside the camera, against black: the highlight is the light's reflection,
+// stretched along the anisotropy's direction. Its tangents come from the
+// UVs (u along +x), so the bitangent cross(n, t)·w is +y.
+Scene brushedQuad(const std::string& path)
+{
+    Scene s = loadGltf(path);
+    Light light{};
+    light.type = LIGHT_POINT;
+    light.position[2] = 3;
+    for (float& e : light.emission) e = 4;
+    s.lights.push_back(light);
+    s.background = {0, 0, 0};
+    return s;
+}
+
+// The principal axis of an image's red channel (the highlight's moments
+// about the image centre) as an angle in the quad's plane: image x is +x,
+// image rows run along −y.
+double highlightAxis(const Image& image, int size)
+{
+    double sxx = 0, syy = 0, sxy = 0;
+    for (int row = 0; row < size; ++row)
+        for (int column = 0; column < size; ++column) {
+            double w = image.rgb[3 * (size_t(row) * size_t(size) + size_t(column))];
+            double x = column + 0.5 - size / 2.0, y = size / 2.0 - (row + 0.5);
+            sxx += w * x * x;
+            syy += w * y * y;
+            sxy += w * x * y;
+        }
+    return 0.5 * std::atan2(2 * sxy, sxx - syy);
+}
+
+// The direction is anisotropyRotation radians from the tangent towards the
+// bitangent: counter-clockwise seen from the normal's side (glTF's
+// definition). The highlight's axis is the rotation, within 0.1 rad, for
+// ±π/4 (a handedness the other way round turns each to the other, π/2 off).
+// And a texture's direction is turned by it: diagonal.png's (1, −1), at
+// −π/4, turned by π/4 lies along the tangent (turned the other way, π/2 off).
+TEST_F(Textures, AnisotropyTurnsFromTheTangentTowardsTheBitangent)
+{
+    json pbr = {{"metallicFactor", 1.0}, {"roughnessFactor", 0.2}};
+    const int size = 48, iterations = 8;
+    DeviceInfo device = test::devicesUnderTest()[0];
+    for (double rotation : {M_PI / 4, -M_PI / 4, 0.0}) {
+        SCOPED_TRACE("rotation " + std::to_string(rotation));
+        json anisotropy = {{"anisotropyStrength", 1.0}, {"anisotropyRotation", rotation}};
+        if (rotation == 0.0) { // the texture's direction turned by π/4
+            anisotropy["anisotropyRotation"] = M_PI / 4;
+            anisotropy["anisotropyTexture"] = {{"index", 6}};
+        }
+        Scene s = brushedQuad(writeQuadWith("brushed", pbr, json::object(), true,
+                                            {{"KHR_materials_anisotropy", anisotropy}}));
+        ASSERT_EQ(s.materials.at(0).lobes, LOBE_GGX_REFLECTION);
+        ASSERT_TRUE(s.features().anisotropy && s.features().tangents);
+        Image image = test::render(device, s, Algorithm::PathTracing, size, size, iterations, 3).image;
+        double axis = highlightAxis(image, size);
+        EXPECT_LT(std::abs(std::remainder(axis - rotation, M_PI)), 0.1) << "highlight axis " << axis;
+    }
+}
+
+// anisotropyTexture (linear data): its RG, mapped to [−1, 1]², is the
+// direction in the tangent frame, turned by anisotropyRotation; its B scales
+// anisotropyStrength. anisotropy.png's top left holds (1, −1) at strength 1,
+// its top right (1, 1), its bottom row strength 0: each corner block renders
+// as the untextured quad of rotation −π/4, +π/4 and strength 0 does at the
+// same seed (direct light alone: the same samples, 1e-3 relative). The
+// references differ where they are compared (by more than 20 % of the
+// brighter), so that the check means something.
+TEST_F(Textures, AnisotropyTextureGivesDirectionAndStrength)
+{
+    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
+    json pbr = {{"metallicFactor", 1.0}, {"roughnessFactor", 0.2}};
+    auto quad = [&](const std::string& name, double strength, double rotation, bool textured) {
+        json anisotropy = {{"anisotropyStrength", strength}, {"anisotropyRotation", rotation}};
+        if (textured) anisotropy["anisotropyTexture"] = {{"index", 5}};
+        return brushedQuad(writeQuadWith(name, pbr, clamp, true, {{"KHR_materials_anisotropy", anisotropy}}));
+    };
+    const int size = 32, block = 8, iterations = 8;
+    DeviceInfo device = test::devicesUnderTest()[0];
+    auto render = [&](const Scene& s) { return test::render(device, s, Algorithm::PathTracing, size, size, iterations, 9).image; };
+    Scene textured = quad("aniso-textured", 1.0, 0.0, true);
+    ASSERT_EQ(textured.materials.at(0).anisotropyTexture, 1);
+    Image t = render(textured), down = render(quad("aniso-down", 1.0, -M_PI / 4, false)),
+          up = render(quad("aniso-up", 1.0, M_PI / 4, false)), none = render(quad("aniso-none", 0.0, 0.0, false));
+    const int right = size - block, bottom = size - block;
+    struct Corner {
+        int x0, y0;
+        const Image* expected;
+        const Image* other;
+    };
+    for (const Corner& c : {Corner{0, 0, &down, &up}, Corner{right, 0, &up, &down}, Corner{0, bottom, &none, &down},
+                            Corner{right, bottom, &none, &up}}) {
+        SCOPED_TRACE("corner " + std::to_string(c.x0) + ", " + std::to_string(c.y0));
+        double se, expected = blockMean(*c.expected, size, c.x0, c.y0, block, 0, &se);
+        double other = blockMean(*c.other, size, c.x0, c.y0, block, 0, &se);
+        EXPECT_NEAR(blockMean(t, size, c.x0, c.y0, block, 0, &se), expected, 1e-3 * expected + 1e-6);
+        EXPECT_GT(std::abs(expected - other), 0.2 * std::max(expected, other)) << "the references must differ";
+    }
 }
 
 // TEXCOORD_1: the base-colour texture read through the second set, which

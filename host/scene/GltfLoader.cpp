@@ -164,7 +164,7 @@ private:
     std::set<std::string> warned_;
     std::set<std::string> skippedModes_; // points and lines, for the error when nothing else is left
     int defaultMaterial_ = -1;
-    bool normalMaps_ = false; // some material has a normal texture: every triangle gets tangents
+    bool tangentFrames_ = false; // some material has a normal texture or anisotropy: every triangle gets tangents
     DecodedImages images_;
     // (glTF texture, sRGB, uv transform, TEXCOORD set) → 1 + index in scene_.textures
     std::map<std::tuple<int, bool, std::array<float, 6>, int>, int> sceneTexture_;
@@ -336,7 +336,8 @@ const std::set<std::string>& supportedExtensions()
         std::set<std::string> names{"KHR_materials_emissive_strength", "KHR_materials_specular",
                                     "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
                                     "KHR_materials_clearcoat", "KHR_materials_sheen",
-                                    "KHR_materials_diffuse_transmission", "KHR_lights_punctual",
+                                    "KHR_materials_diffuse_transmission", "KHR_materials_anisotropy",
+                                    "KHR_lights_punctual",
                                     "EXT_texture_webp", "KHR_mesh_quantization", "KHR_texture_transform"};
         if (dracoSupported()) names.insert("KHR_draco_mesh_compression");
         return names;
@@ -371,7 +372,8 @@ void Loader::loadMaterials()
 {
     for (size_t i = 0; i < model_.materials.size(); ++i) {
         scene_.materials.push_back(convertMaterial(model_.materials[i], int(i)));
-        normalMaps_ = normalMaps_ || scene_.materials.back().normalTexture > 0;
+        const Material& m = scene_.materials.back();
+        tangentFrames_ = tangentFrames_ || m.normalTexture > 0 || m.anisotropy > 0;
     }
 }
 
@@ -556,6 +558,16 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
                 warnOnce(name + ": the clearcoat follows the base's normal texture, where glTF leaves the coat unmapped");
         }
     }
+    out.anisotropyRotation[0] = 1.0f;
+    if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_anisotropy")) {
+        out.anisotropy = clamp01(number(*e, "anisotropyStrength", 0.0));
+        double rotation = number(*e, "anisotropyRotation", 0.0);
+        if (!std::isfinite(rotation)) fail(name + ": KHR_materials_anisotropy anisotropyRotation is not finite");
+        out.anisotropyRotation[0] = float(std::cos(rotation));
+        out.anisotropyRotation[1] = float(std::sin(rotation));
+        if (out.anisotropy > 0)
+            out.anisotropyTexture = extensionTexture(*e, "KHR_materials_anisotropy", "anisotropyTexture", "anisotropy");
+    }
     if (const tinygltf::Value* e = extension(m.extensions, "KHR_materials_diffuse_transmission")) {
         out.diffuseTransmission = clamp01(number(*e, "diffuseTransmissionFactor", 0.0));
         for (int c = 0; c < 3; ++c) out.diffuseTransmissionColor[c] = 1.0f;
@@ -583,8 +595,10 @@ Material Loader::convertMaterial(const tinygltf::Material& m, int index)
     }
 
     // Lobes (docs/scenes.md): a GGX alpha = roughness² below 1e-3 is treated as
-    // perfectly smooth, where a microfacet lobe would be numerically useless.
-    bool smooth = out.roughness * out.roughness < 1e-3f;
+    // perfectly smooth, where a microfacet lobe would be numerically useless;
+    // anisotropy raises alpha along its direction to mix(alpha, 1, strength²).
+    float alpha = out.roughness * out.roughness, strength2 = out.anisotropy * out.anisotropy;
+    bool smooth = alpha + (1.0f - alpha) * strength2 < 1e-3f;
     auto maxOf = [](const float c[3]) { return std::max(c[0], std::max(c[1], c[2])); };
     // A metallic-roughness texture scales metallic down anywhere from the
     // factor to 0: the lobes must cover every value in between.
@@ -1241,9 +1255,10 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
                 warnOnce(what + ": a textured material without TEXCOORD_" + std::to_string(set) +
                          "; the texel at (0, 0) is used");
         }
-        // Tangents (x, y, z, handedness) per corner for a normal map: TANGENT, else made from the UVs.
+        // Tangents (x, y, z, handedness) per corner for a normal map or anisotropy: TANGENT, else made from
+        // the UVs (of the normal texture, else the anisotropy texture, else TEXCOORD_0).
         std::vector<float> tangents;
-        if (used.normalTexture > 0) {
+        if (used.normalTexture > 0 || used.anisotropy > 0) {
             auto tan = prim.attributes.find("TANGENT");
             if (tan != prim.attributes.end()) { // per vertex, given out per corner
                 std::vector<float> perVertex = readFloats(tan->second, 4, what + " TANGENT");
@@ -1259,8 +1274,12 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
                 for (size_t c = 0; c < indices.size(); ++c)
                     std::copy_n(&perVertex[4 * size_t(indices[c])], 4, &tangents[4 * c]);
             } else {
-                tangents = mikkTSpaceTangents(positions, normals,
-                                            uvSets[scene_.textures[size_t(used.normalTexture) - 1].texCoord], indices);
+                int frameTexture = used.normalTexture > 0 ? used.normalTexture : used.anisotropyTexture;
+                const std::vector<float>& uvs = uvSets[frameTexture > 0 ? scene_.textures[size_t(frameTexture) - 1].texCoord : 0];
+                if (uvs.empty() && used.anisotropy > 0)
+                    warnOnce(what + ": an anisotropic material without TANGENT or texture coordinates; its direction "
+                                    "follows an arbitrary tangent");
+                tangents = mikkTSpaceTangents(positions, normals, uvs, indices);
             }
         }
 
@@ -1277,8 +1296,9 @@ void Loader::addMesh(int meshIndex, const Mat4& nodeWorld, const std::string& no
         bool hadColors = !scene_.colors.empty();
         if (!colors.empty() && !hadColors) scene_.colors.assign(scene_.vertices.size(), {1, 1, 1, 1});
         bool wantColors = !colors.empty() || hadColors;
-        // Tangents exist for every triangle (zero where no normal map reads them) once any material has a normal map.
-        bool wantTangents = normalMaps_;
+        // Tangents exist for every triangle (zero where nothing reads them) once any material has a normal map
+        // or anisotropy.
+        bool wantTangents = tangentFrames_;
         float handedness = det < 0 ? -1.0f : 1.0f; // a mirroring transform turns the bitangent around
         for (size_t i = 0; i < indices.size(); i += 3) {
             Vec3 v[3];

@@ -38,7 +38,11 @@ SceneFeatures Scene::features() const
     f.environmentMap = !environment.empty();
     if (f.environmentMap) f.environmentSize = std::max(environment.image.width, environment.image.height);
     f.textures = !textures.empty();
-    f.normalMaps = !tangents.empty();
+    f.tangents = !tangents.empty();
+    for (int m : triangleMaterial) {
+        f.normalMaps |= f.tangents && materials[m].normalTexture > 0;
+        f.anisotropy |= materials[m].anisotropy > 0;
+    }
     f.texCoord1 = !uvs1.empty();
     f.vertexColors = !colors.empty();
     f.orthographicCamera = camera.orthographic;
@@ -77,6 +81,8 @@ std::string SceneFeatures::buildOptions() const
         o += " -DHAS_ENVIRONMENT_MAP -DENV_CDF_STEPS=" + std::to_string(binarySearchSteps(environmentSize));
     if (textures) o += " -DHAS_TEXTURES";
     if (normalMaps) o += " -DHAS_NORMAL_MAPS";
+    if (tangents || normalMaps) o += " -DHAS_TANGENTS";
+    if (anisotropy) o += " -DHAS_ANISOTROPY";
     if (alphaTest) o += " -DHAS_ALPHA_TEST";
     if (emissiveTextures) o += " -DHAS_EMISSIVE_TEXTURES";
     if (texCoord1) o += " -DHAS_TEXCOORD1";

@@ -16,7 +16,7 @@ namespace wv {
 static_assert(sizeof(BvhNode) == 7 * 4 * BVH_WIDTH, "BvhNode layout");
 static_assert(sizeof(TrianglePacket4) == 40 * 4 && sizeof(TrianglePacket8) == 40 * 8, "TrianglePacket layout");
 static_assert(sizeof(Camera) == 64, "Camera layout");
-static_assert(sizeof(Material) == 192, "Material layout");
+static_assert(sizeof(Material) == 208, "Material layout");
 static_assert(sizeof(TextureInfo) == 48, "TextureInfo layout");
 static_assert(sizeof(Light) == 64, "Light layout");
 static_assert(sizeof(SceneInfo) == 48, "SceneInfo layout");
@@ -68,7 +68,9 @@ struct SceneFeatures {
     bool environmentMap = false; // the background's radiance comes from a map
     int environmentSize = 0;     // its larger side, in texels
     bool textures = false;       // some material has a texture
-    bool normalMaps = false;     // some material has a normal texture (Scene::tangents)
+    bool normalMaps = false;     // some material has a normal texture, and the triangles tangents
+    bool tangents = false;       // the triangles have tangents (Scene::tangents: normal maps, anisotropy)
+    bool anisotropy = false;     // some material is anisotropic (KHR_materials_anisotropy)
     bool alphaTest = false;      // some material's alphaMode is MASK or BLEND: rays test alpha
     bool emissiveTextures = false; // some emitting triangle's material has an emissive texture
     bool texCoord1 = false;      // some texture reads TEXCOORD_1 (Scene::uvs1)
@@ -108,10 +110,10 @@ struct Scene {
     // every triangle's corners when some primitive has it (opaque white for
     // the others), else empty.
     std::vector<std::array<float, 4>> colors;
-    // Tangent frames of every triangle's corners for normal maps (three per
-    // triangle: x, y, z along +u, handedness w = ±1, the bitangent being
-    // cross(n, t)·w), zero where the material has none; empty when no
-    // material has a normal map.
+    // Tangent frames of every triangle's corners for normal maps and
+    // anisotropy (three per triangle: x, y, z along +u, handedness w = ±1,
+    // the bitangent being cross(n, t)·w), zero where the material has none;
+    // empty when no material has a normal map or anisotropy.
     std::vector<std::array<float, 4>> tangents;
     CameraView camera;         // the one rendered: the file's first camera by default
     bool cameraFromFile = false;

@@ -95,8 +95,8 @@ typedef struct Camera {
 #define LOBES_ALL 511u
 
 /* The glTF metallic-roughness model with KHR_materials_specular,
- * _transmission, _diffuse_transmission, _ior, _volume, _clearcoat, _sheen
- * and _emissive_strength folded in;
+ * _transmission, _diffuse_transmission, _ior, _volume, _clearcoat, _sheen,
+ * _anisotropy and _emissive_strength folded in;
  * see docs/scenes.md, "Materials", for the mapping. */
 typedef struct Material {
     float baseColor[3];
@@ -135,6 +135,9 @@ typedef struct Material {
     float diffuseTransmissionColor[3]; /* diffuseTransmissionColorFactor */
     int diffuseTransmissionTexture;      /* 1 + its index in the texture table; its alpha scales diffuseTransmission */
     int diffuseTransmissionColorTexture; /* the same; its RGB (sRGB-decoded) scales diffuseTransmissionColor */
+    float anisotropy;          /* KHR_materials_anisotropy anisotropyStrength; 0: isotropic */
+    float anisotropyRotation[2]; /* cos and sin of anisotropyRotation (from the tangent towards the bitangent) */
+    int anisotropyTexture;     /* 1 + its index in the texture table; its RG a direction, its B scales anisotropy */
 } Material;
 
 /* glTF alphaMode. */

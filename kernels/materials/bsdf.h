@@ -34,7 +34,11 @@
 
 typedef struct Bsdf {
     uint lobes;
-    float alpha;          /* GGX α = roughness² */
+    float alpha;          /* GGX α = roughness² (across the anisotropy's direction) */
+#ifdef HAS_ANISOTROPY
+    float alphaT;         /* α along it: mix(α, 1, strength²) (KHR_materials_anisotropy) */
+    float stretchX, stretchY; /* that direction in the local frame (unit) */
+#endif
     float eta;            /* η_t / η_i for light crossing from wo's side */
     bool solid;           /* light enters a closed solid (not thin-walled): transmission
                              bends, η inverts inside */
@@ -201,6 +205,10 @@ typedef struct SurfaceMaterial {
     float sheenRoughness;
     float diffuseTransmission;
     vec3 diffuseTransmissionColor;
+#ifdef HAS_ANISOTROPY
+    float anisotropy;
+    vec2 anisotropyDirection; /* in the tangent frame (tangent, bitangent) */
+#endif
 } SurfaceMaterial;
 
 /* The factors alone (untextured). */
@@ -219,6 +227,10 @@ INLINE SurfaceMaterial material_factors(__global const Material* m)
     s.sheenRoughness = m->sheenRoughness;
     s.diffuseTransmission = m->diffuseTransmission;
     s.diffuseTransmissionColor = load3(m->diffuseTransmissionColor);
+#ifdef HAS_ANISOTROPY
+    s.anisotropy = m->anisotropy;
+    s.anisotropyDirection = v2(m->anisotropyRotation[0], m->anisotropyRotation[1]);
+#endif
     return s;
 }
 
@@ -230,7 +242,14 @@ INLINE Bsdf make_bsdf(__global const Material* m, const SurfaceMaterial* at, vec
     Bsdf b;
     b.lobes = m->lobes & SCENE_LOBES;
     vec3 base = at->baseColor;
-    b.alpha = fmax(at->roughness * at->roughness, 1e-3f);
+    float alpha = at->roughness * at->roughness;
+    b.alpha = fmax(alpha, 1e-3f);
+#ifdef HAS_ANISOTROPY
+    float strength2 = at->anisotropy * at->anisotropy;
+    b.alphaT = fmax(alpha + (1.0f - alpha) * strength2, 1e-3f);
+    b.stretchX = 1.0f; /* the local frame's x until set_stretch turns it */
+    b.stretchY = 0.0f;
+#endif
     b.solid = (b.lobes & (LOBES_TRANSMIT | LOBE_DIFFUSE_TRANSMISSION)) != 0u && !m->thinWalled;
     /* Opaque and thin-walled surfaces are two-sided: their Fresnel always
      * sees air → material. A refracting solid sees the inverse from inside. */
@@ -333,6 +352,48 @@ INLINE bool bsdf_has_nondelta(const Bsdf* b)
            (b->coatProb > 0.0f && (b->lobes & LOBE_GGX_COAT)) || b->sheenProb > 0.0f;
 }
 
+/* The microfacets of the base's reflection and transmission: GGX of α, or
+ * with anisotropy (HAS_ANISOTROPY) of alphaT along the direction (stretchX,
+ * stretchY) and α across it, directions turned into that direction's frame.
+ * The coat stays isotropic. */
+#ifdef HAS_ANISOTROPY
+INLINE vec3 to_stretch(const Bsdf* b, vec3 w)
+{
+    return v3(b->stretchX * w.x + b->stretchY * w.y, b->stretchX * w.y - b->stretchY * w.x, w.z);
+}
+INLINE float base_d(const Bsdf* b, vec3 h) { return ggx_d_aniso(to_stretch(b, h), b->alphaT, b->alpha); }
+INLINE float base_g(const Bsdf* b, vec3 wo, vec3 wi)
+{
+    return ggx_g_aniso(to_stretch(b, wo), to_stretch(b, wi), b->alphaT, b->alpha);
+}
+INLINE float base_visible_pdf(const Bsdf* b, vec3 w, vec3 h)
+{
+    return ggx_visible_pdf_aniso(to_stretch(b, w), to_stretch(b, h), b->alphaT, b->alpha);
+}
+INLINE vec3 base_sample_visible(const Bsdf* b, vec3 wo, float u1, float u2)
+{
+    vec3 h = ggx_sample_visible_aniso(to_stretch(b, wo), b->alphaT, b->alpha, u1, u2);
+    return v3(b->stretchX * h.x - b->stretchY * h.y, b->stretchY * h.x + b->stretchX * h.y, h.z);
+}
+
+/* Turns the anisotropy towards direction (x, y) of the local frame (the
+ * tangent frame's direction there: materials/surface_bsdf.h). */
+INLINE void set_stretch(Bsdf* b, float x, float y)
+{
+    float length = sqrt(x * x + y * y);
+    b->stretchX = length > 0.0f ? x / length : 1.0f;
+    b->stretchY = length > 0.0f ? y / length : 0.0f;
+}
+#else
+INLINE float base_d(const Bsdf* b, vec3 h) { return ggx_d(h, b->alpha); }
+INLINE float base_g(const Bsdf* b, vec3 wo, vec3 wi) { return ggx_g(wo, wi, b->alpha); }
+INLINE float base_visible_pdf(const Bsdf* b, vec3 w, vec3 h) { return ggx_visible_pdf(w, h, b->alpha); }
+INLINE vec3 base_sample_visible(const Bsdf* b, vec3 wo, float u1, float u2)
+{
+    return ggx_sample_visible(wo, b->alpha, u1, u2);
+}
+#endif
+
 /* Generalised half vector of refraction h ∝ wo + η·wi, oriented to +z. */
 INLINE vec3 refraction_half_vector(vec3 wo, vec3 wi, float eta)
 {
@@ -378,9 +439,9 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
             vec3 h = v3_normalize(v3_add(wo, wi));
             float cosH = v3_dot(wo, h);
             f = v3_add(f, v3_scale(reflectance(b, cosH, b->eta),
-                                   under * ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) / (4.0f * wo.z * wi.z)));
-            *pdfFwd += b->lobeProb.x * ggx_visible_pdf(wo, h, b->alpha) / (4.0f * cosH);
-            *pdfRev += probRev.x * ggx_visible_pdf(wi, h, b->alpha) / (4.0f * cosH);
+                                   under * base_d(b, h) * base_g(b, wo, wi) / (4.0f * wo.z * wi.z)));
+            *pdfFwd += b->lobeProb.x * base_visible_pdf(b, wo, h) / (4.0f * cosH);
+            *pdfRev += probRev.x * base_visible_pdf(b, wi, h) / (4.0f * cosH);
         }
 #endif
 #if SCENE_LOBES & LOBE_SHEEN
@@ -411,17 +472,17 @@ INLINE vec3 bsdf_eval(const Bsdf* b, vec3 wo, vec3 wi, bool adjoint, float* pdfF
                 float denom = ih + oh / b->eta;
                 float T = layer_transmittance(b, oh, b->eta) * layers_through(b, false, wo.z) *
                           layers_through(b, true, wi.z);
-                float value = ggx_d(h, b->alpha) * ggx_g(wo, wi, b->alpha) * fabs(ih * oh / (wi.z * wo.z * denom * denom));
+                float value = base_d(b, h) * base_g(b, wo, wi) * fabs(ih * oh / (wi.z * wo.z * denom * denom));
                 if (!adjoint)
                     value /= b->eta * b->eta;
                 f = v3_add(f, v3_scale(b->transmitColor, T * value));
-                *pdfFwd += b->lobeProb.y * ggx_visible_pdf(wo, h, b->alpha) * refraction_jacobian(oh, ih, b->eta);
+                *pdfFwd += b->lobeProb.y * base_visible_pdf(b, wo, h) * refraction_jacobian(oh, ih, b->eta);
                 /* Reverse: from wi's side (mirrored so it is "above"), η
                  * inverts and the roles of the directions swap. */
                 vec3 wiUp = v3(wi.x, wi.y, -wi.z), hUp = v3(-h.x, -h.y, h.z);
                 float coatRev, sheenRev;
                 vec3 probRev = lobe_probabilities(b, -wi.z, 1.0f / b->eta, true, &coatRev, &sheenRev);
-                *pdfRev += probRev.y * ggx_visible_pdf(wiUp, hUp, b->alpha) *
+                *pdfRev += probRev.y * base_visible_pdf(b, wiUp, hUp) *
                            refraction_jacobian(-ih, -oh, 1.0f / b->eta);
             }
         }
@@ -476,7 +537,7 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
             return true;
         }
 #if SCENE_LOBES & LOBE_GGX_REFLECTION
-        vec3 h = ggx_sample_visible(wo, b->alpha, u2, u3);
+        vec3 h = base_sample_visible(b, wo, u2, u3);
         s->wi = v3_sub(v3_scale(h, 2.0f * v3_dot(wo, h)), wo);
         if (s->wi.z <= 0.0f)
             return false;
@@ -500,7 +561,7 @@ INLINE bool bsdf_sample(const Bsdf* b, vec3 wo, float u1, float u2, float u3, bo
             return true;
         }
 #if SCENE_LOBES & LOBE_GGX_TRANSMISSION
-        vec3 h = ggx_sample_visible(wo, b->alpha, u2, u3);
+        vec3 h = base_sample_visible(b, wo, u2, u3);
         if (!refract_direction(wo, h, b->eta, &s->wi) || s->wi.z >= 0.0f)
             return false;
 #else

@@ -1,6 +1,6 @@
 /* A surface point of the scene as its material makes it: the hit shaded
  * with the material's normal map (scene_surface_hit), and the BSDF its
- * textures give (surface_bsdf). */
+ * textures and tangent frame give (surface_bsdf). */
 #ifndef WAVEVCM_SURFACE_BSDF_H
 #define WAVEVCM_SURFACE_BSDF_H
 
@@ -25,13 +25,30 @@ INLINE SurfaceHit scene_surface_hit(const RenderBuffers* b, int tri, vec2 bary, 
     return h;
 }
 
-/* Triangle `tri`'s BSDF at barycentrics `bary`, seen from local direction
- * woL (frontSide as in make_bsdf). */
-INLINE Bsdf surface_bsdf(const RenderBuffers* b, int tri, vec2 bary, vec3 woL, bool frontSide)
+/* Triangle `tri`'s BSDF at barycentrics `bary` of hit h, seen from local
+ * direction woL. */
+INLINE Bsdf surface_bsdf(const RenderBuffers* b, const SurfaceHit* h, int tri, vec2 bary, vec3 woL)
 {
     __global const Material* m = &b->materials[b->triMaterials[tri]];
     SurfaceMaterial at = surface_material(b, m, tri, bary);
-    return make_bsdf(m, &at, woL, frontSide);
+    Bsdf bsdf = make_bsdf(m, &at, woL, h->frontSide);
+#ifdef HAS_ANISOTROPY
+    if (at.anisotropy > 0.0f) {
+        /* The anisotropy's direction, given in the tangent frame (about the
+         * side the file's normals face, so that both sides see one
+         * direction), in the local one. Without tangents a frame made from
+         * that normal alone stands in. */
+        vec3 n = h->frontSide ? h->nsF : v3_neg(h->nsF);
+        Frame f = frame_from_normal(n);
+        vec3 t = f.s, bt = f.t;
+#ifdef HAS_TANGENTS
+        tangent_frame(b, tri, bary, n, &t, &bt);
+#endif
+        vec3 d = to_local(&h->frame, v3_add(v3_scale(t, at.anisotropyDirection.x), v3_scale(bt, at.anisotropyDirection.y)));
+        set_stretch(&bsdf, d.x, d.y);
+    }
+#endif
+    return bsdf;
 }
 
 #endif

@@ -128,7 +128,7 @@ INLINE float vertex_alpha(const RenderBuffers* b, int tri, vec2 bary)
  * transmission texture's R, the specular layer's alpha (factor) and RGB
  * (colour), the clear coat's R (weight) and G (roughness), the sheen's RGB
  * (colour) and alpha (roughness), diffuse transmission's alpha (factor) and
- * RGB (colour). */
+ * RGB (colour), the anisotropy's RG (direction) and B (strength). */
 INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const Material* m, int tri, vec2 bary)
 {
     SurfaceMaterial s = material_factors(m);
@@ -160,6 +160,17 @@ INLINE SurfaceMaterial surface_material(const RenderBuffers* b, __global const M
         s.sheenColor = v3_mul(s.sheenColor, scene_texture(b, m->sheenColorTexture, tri, bary));
     if (m->sheenRoughnessTexture > 0)
         s.sheenRoughness *= scene_texture_alpha(b, m->sheenRoughnessTexture, tri, bary);
+#endif
+#ifdef HAS_ANISOTROPY
+    if (m->anisotropyTexture > 0) {
+        /* RG: a direction in [−1, 1]², turned by the material's rotation; B
+         * scales the strength. */
+        vec3 c = scene_texture(b, m->anisotropyTexture, tri, bary);
+        float x = 2.0f * c.x - 1.0f, y = 2.0f * c.y - 1.0f;
+        vec2 r = s.anisotropyDirection;
+        s.anisotropyDirection = v2(r.x * x - r.y * y, r.y * x + r.x * y);
+        s.anisotropy *= c.z;
+    }
 #endif
 #if SCENE_LOBES & LOBE_DIFFUSE_TRANSMISSION
     if (m->diffuseTransmissionTexture > 0)

@@ -54,7 +54,7 @@ INLINE bool connect_to_light_vertex(const RenderBuffers* b, const LaunchParams* 
     float cameraFwd, cameraRev, lightFwd, lightRev;
     vec3 fCamera = bsdf_eval(&cv->bsdf, cv->woL, dL, false, &cameraFwd, &cameraRev);
     vec3 toLightL = to_local(&lightHit.frame, toLight);
-    Bsdf lightBsdf = surface_bsdf(b, lv->triangle, lightBary, toLightL, lightHit.frontSide);
+    Bsdf lightBsdf = surface_bsdf(b, &lightHit, lv->triangle, lightBary, toLightL);
     vec3 fLight = v3_scale(bsdf_eval(&lightBsdf, toLightL, backL, true, &lightFwd, &lightRev),
                            adjoint_shading_correction(&lightHit, toLight, v3_neg(d)));
     if (!(max_component(fCamera) > 0.0f && max_component(fLight) > 0.0f))

@@ -63,7 +63,7 @@ INLINE void shade_hit(const RenderBuffers* b, const LaunchParams* params, int sl
 #endif
 
     vec3 woL = to_local(&hit.frame, wo);
-    Bsdf bsdf = surface_bsdf(b, tri, bary, woL, hit.frontSide);
+    Bsdf bsdf = surface_bsdf(b, &hit, tri, bary, woL);
     bool alive = path_fits(depth + 1, params->maxPathLength) && !bsdf_is_black(&bsdf);
 
     if (alive && bsdf_has_nondelta(&bsdf)) {

@@ -77,7 +77,7 @@ INLINE CameraHitResult shade_camera_hit(const RenderBuffers* b, const LaunchPara
 #endif
 
 #ifndef LIGHT_TRACING
-    Bsdf bsdf = surface_bsdf(b, tri, bary, woL, hit.frontSide);
+    Bsdf bsdf = surface_bsdf(b, &hit, tri, bary, woL);
     bool alive = path_fits(depth + 1, params->maxPathLength) && !bsdf_is_black(&bsdf);
     float cont = continuation_probability(&bsdf);
 #ifdef PPM

@@ -77,7 +77,7 @@ INLINE LightHitResult shade_light_hit(const RenderBuffers* b, const LaunchParams
     vec3 wLightL = to_local(&hit.frame, wLight);
     PathMis mis = load_mis(b->pathMis, slot);
     mis_at_hit(&mis, b->hitT[slot], mis_cos(hit.ngF, wLight), depth > 1 || (b->pathFlags[slot] & PATH_FINITE_LIGHT));
-    Bsdf bsdf = surface_bsdf(b, tri, bary, wLightL, hit.frontSide);
+    Bsdf bsdf = surface_bsdf(b, &hit, tri, bary, wLightL);
     if (bsdf_is_black(&bsdf))
         return r;
     float cont = continuation_probability(&bsdf);

@@ -27,7 +27,7 @@ INLINE CameraVertex camera_vertex(const RenderBuffers* b, int slot)
     vec2 bary = load_vec2(b->hitBary, slot);
     v.hit = scene_surface_hit(b, tri, bary, wo);
     v.woL = to_local(&v.hit.frame, wo);
-    v.bsdf = surface_bsdf(b, tri, bary, v.woL, v.hit.frontSide);
+    v.bsdf = surface_bsdf(b, &v.hit, tri, bary, v.woL);
     v.mis = load_mis(b->pathMis, slot);
     mis_at_hit(&v.mis, b->hitT[slot], mis_cos(v.hit.ngF, wo), true);
     v.continuation = continuation_probability(&v.bsdf);

@@ -5,6 +5,21 @@
 #include "interface/inline.h"
 #include "materials/bsdf.h"
 
+/* The BSDF of material setup.x seen from wo (setup.y: on the front side),
+ * its anisotropy turned by the material's rotation from the local x axis:
+ * the tests' local frame is the tangent frame, the same x and y seen from
+ * either side (the frame mirrored in z). */
+INLINE Bsdf test_bsdf(__global const Material* materials, int4 setup, vec3 wo)
+{
+    SurfaceMaterial at = material_factors(&materials[setup.x]);
+    Bsdf b = make_bsdf(&materials[setup.x], &at, wo, setup.y != 0);
+#ifdef HAS_ANISOTROPY
+    if (at.anisotropy > 0.0f)
+        set_stretch(&b, at.anisotropyDirection.x, at.anisotropyDirection.y);
+#endif
+    return b;
+}
+
 /* One bsdf_sample per work item with the host's random numbers u[i].xyz,
  * plus bsdf_eval at the sampled pair (non-delta samples only).
  * wiPdf: sampled wi and pdf; weightStatus: weight and 0 (no sample),
@@ -19,8 +34,7 @@ __kernel void sample_bsdf(__global const Material* materials, __global const int
     int4 setup = setups[i];
     vec3 wo = from_float3(wos[i].xyz);
     bool adjoint = setup.z != 0;
-    SurfaceMaterial at = material_factors(&materials[setup.x]);
-    Bsdf b = make_bsdf(&materials[setup.x], &at, wo, setup.y != 0);
+    Bsdf b = test_bsdf(materials, setup, wo);
     BsdfSample s;
     s.wi = v3s(0.0f);
     s.weight = v3s(0.0f);
@@ -49,8 +63,7 @@ __kernel void eval_bsdf(__global const Material* materials, __global const int4*
         return;
     int4 setup = setups[i];
     vec3 wo = from_float3(wos[i].xyz);
-    SurfaceMaterial at = material_factors(&materials[setup.x]);
-    Bsdf b = make_bsdf(&materials[setup.x], &at, wo, setup.y != 0);
+    Bsdf b = test_bsdf(materials, setup, wo);
     float pdfFwd, pdfRev;
     vec3 f = bsdf_eval(&b, wo, from_float3(wis[i].xyz), setup.z != 0, &pdfFwd, &pdfRev);
     evalF[i] = (float4)(to_float3(f), pdfFwd);
@@ -104,8 +117,7 @@ __kernel void pdf_bin_integrals(__global const Material* materials, int4 setup, 
         return;
     vec3 wo = from_float3(wo4.xyz);
     bool adjoint = setup.z != 0;
-    SurfaceMaterial at = material_factors(&materials[setup.x]);
-    Bsdf b = make_bsdf(&materials[setup.x], &at, wo, setup.y != 0);
+    Bsdf b = test_bsdf(materials, setup, wo);
     float dTheta = PI_F / (float)thetaBins, dPhi = 2.0f * PI_F / (float)phiBins;
     float theta0 = (float)(bin / phiBins) * dTheta, phi0 = -PI_F + (float)(bin % phiBins) * dPhi;
     float estimate = bin_integral(&b, wo, adjoint, theta0, dTheta, phi0, dPhi, 16);

@@ -28,6 +28,10 @@ INLINE Densities densities(__global const Material* m, float3 n, float3 fixed, f
     vec3 a = to_local(&f, from_float3(fixed)), b = to_local(&f, from_float3(out));
     SurfaceMaterial at = material_factors(m);
     Bsdf bsdf = make_bsdf(m, &at, a, frontSide);
+#ifdef HAS_ANISOTROPY
+    if (at.anisotropy > 0.0f) /* along the frame's x, whichever it is: the same at every vertex */
+        set_stretch(&bsdf, at.anisotropyDirection.x, at.anisotropyDirection.y);
+#endif
     Densities d;
     bsdf_eval(&bsdf, a, b, false, &d.fwd, &d.rev);
     d.cont = continuation_probability(&bsdf);
