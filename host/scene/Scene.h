@@ -16,7 +16,7 @@ namespace wv {
 static_assert(sizeof(BvhNode) == 7 * 4 * BVH_WIDTH, "BvhNode layout");
 static_assert(sizeof(TrianglePacket4) == 40 * 4 && sizeof(TrianglePacket8) == 40 * 8, "TrianglePacket layout");
 static_assert(sizeof(Camera) == 64, "Camera layout");
-static_assert(sizeof(Material) == 208, "Material layout");
+static_assert(sizeof(Material) == 256, "Material layout");
 static_assert(sizeof(TextureInfo) == 48, "TextureInfo layout");
 static_assert(sizeof(Light) == 64, "Light layout");
 static_assert(sizeof(SceneInfo) == 48, "SceneInfo layout");
