@@ -104,13 +104,25 @@ protected:
             extensions["KHR_materials_specular"] = {{"specularFactor", 0.0}};
         quad.material = {{"pbrMetallicRoughness", pbr}, {"extensions", extensions}};
         quad.extensionsUsed = {"KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_clearcoat",
-                               "KHR_materials_sheen"};
+                               "KHR_materials_sheen", "KHR_materials_diffuse_transmission",
+                               "KHR_materials_anisotropy"};
         quad.images = {"texture.png", "mr.png", "transmission.png", "coat.png", "alpha.png", "anisotropy.png",
                        "diagonal.png"};
         quad.sampler = sampler;
         quad.uvs = uvs;
         return test::writeQuad(dir_, name, quad);
     }
+
+    // A layer's two textures over its untextured factors: a black quad whose
+    // only lobe is the layer's (`lobes`), under a uniform white background,
+    // the layer of extension `name` (its factor `factor` set to 1 or
+    // 64/255), coloured by coat.png through `colourTexture` and scaled by
+    // alpha.png through `factorTexture`: expectCoatPngColours against the
+    // untextured quad of factor 1, expectAlphaPngColumns against those of
+    // factor 1 and 64/255. `pbr` is the quad's pbrMetallicRoughness, `other`
+    // more extensions.
+    void expectLayerTextures(const char* name, const json& pbr, const json& other, const char* factor,
+                             const char* colourTexture, const char* factorTexture, uint32_t lobes);
 
     fs::path dir_;
 };
@@ -500,95 +512,61 @@ TEST_F(Textures, ClearcoatTexturesScaleWeightAndRoughness)
 
 // The sheen's textures (KHR_materials_sheen): sheenColorTexture's RGB
 // (sRGB-decoded) times sheenColorFactor, sheenRoughnessTexture's alpha times
-// sheenRoughnessFactor. A black quad (only the sheen reflects) under a
-// uniform white background, coloured by coat.png and roughened by
-// alpha.png (expectCoatPngColours, expectAlphaPngColumns).
+// sheenRoughnessFactor, on a black quad (only the sheen reflects).
 TEST_F(Textures, SheenTexturesScaleColourAndRoughness)
 {
-    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
     json pbr = {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}};
-    auto quad = [&](const std::string& name, float roughness, const char* texture, int index) {
-        json sheen = {{"sheenColorFactor", {1, 1, 1}}, {"sheenRoughnessFactor", roughness}};
-        if (texture) sheen[texture] = {{"index", index}};
-        Scene s = loadGltf(writeQuadWith(name, pbr, clamp, true, {{"KHR_materials_sheen", sheen}}));
-        s.background = {1, 1, 1};
-        return s;
-    };
-    const int size = 32, block = 8, iterations = 16;
-    DeviceInfo device = test::devicesUnderTest()[0];
-    auto render = [&](const Scene& s) { return test::render(device, s, Algorithm::PathTracing, size, size, iterations, 9).image; };
-    Scene coloured = quad("sheen-coloured", 1.0f, "sheenColorTexture", 3);
-    Scene roughened = quad("sheen-roughened", 1.0f, "sheenRoughnessTexture", 4);
-    ASSERT_EQ(coloured.materials.at(0).sheenColorTexture, 1);
-    ASSERT_EQ(roughened.materials.at(0).sheenRoughnessTexture, 1);
-    EXPECT_EQ(coloured.materials.at(0).lobes, LOBE_SHEEN);
-    Image c = render(coloured), r = render(roughened), rough = render(quad("sheen-rough", 1.0f, nullptr, 0)),
-          smooth = render(quad("sheen-smooth", 64 / 255.0f, nullptr, 0));
-    expectCoatPngColours(c, rough, size, block);
-    expectAlphaPngColumns(r, rough, smooth, size, block);
+    json sheen = {{"KHR_materials_sheen", {{"sheenColorFactor", {1, 1, 1}}}}};
+    expectLayerTextures("KHR_materials_sheen", pbr, sheen, "sheenRoughnessFactor", "sheenColorTexture",
+                        "sheenRoughnessTexture", LOBE_SHEEN);
 }
 
 // KHR_materials_specular's textures: specularTexture's alpha times
 // specularFactor, specularColorTexture's RGB (sRGB-decoded) times
-// specularColorFactor. A black rough dielectric quad (only the specular
-// layer reflects) under a uniform white background, textured as the sheen
-// test's quad is and checked the same way.
+// specularColorFactor, on a black rough dielectric quad (only the specular
+// layer reflects).
 TEST_F(Textures, SpecularTexturesScaleFactorAndColour)
 {
-    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
     json pbr = {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.5}};
-    auto quad = [&](const std::string& name, float factor, const char* texture, int index) {
-        json specular = {{"specularFactor", factor}};
-        if (texture) specular[texture] = {{"index", index}};
-        Scene s = loadGltf(writeQuadWith(name, pbr, clamp, true, {{"KHR_materials_specular", specular}}));
-        s.background = {1, 1, 1};
-        return s;
-    };
-    const int size = 32, block = 8, iterations = 16;
-    DeviceInfo device = test::devicesUnderTest()[0];
-    auto render = [&](const Scene& s) { return test::render(device, s, Algorithm::PathTracing, size, size, iterations, 9).image; };
-    Scene coloured = quad("specular-coloured", 1.0f, "specularColorTexture", 3);
-    Scene weakened = quad("specular-weakened", 1.0f, "specularTexture", 4);
-    ASSERT_EQ(coloured.materials.at(0).specularColorTexture, 1);
-    ASSERT_EQ(weakened.materials.at(0).specularTexture, 1);
-    EXPECT_EQ(coloured.materials.at(0).lobes, LOBE_GGX_REFLECTION);
-    Image c = render(coloured), w = render(weakened), full = render(quad("specular-full", 1.0f, nullptr, 0)),
-          weak = render(quad("specular-weak", 64 / 255.0f, nullptr, 0));
-    expectCoatPngColours(c, full, size, block);
-    expectAlphaPngColumns(w, full, weak, size, block);
+    expectLayerTextures("KHR_materials_specular", pbr, json::object(), "specularFactor",
+                        "specularColorTexture", "specularTexture", LOBE_GGX_REFLECTION);
 }
 
 // KHR_materials_diffuse_transmission's textures: diffuseTransmissionTexture's
 // alpha times diffuseTransmissionFactor, diffuseTransmissionColorTexture's
-// RGB (sRGB-decoded) times diffuseTransmissionColorFactor. A quad that only
-// transmits (black base colour, no specular layer) before a uniform white
-// background, which shows through it; textured as the sheen test's quad is
-// and checked the same way.
+// RGB (sRGB-decoded) times diffuseTransmissionColorFactor, on a quad that
+// only transmits (black base colour, no specular layer): the background
+// shows through it.
 TEST_F(Textures, DiffuseTransmissionTexturesScaleFactorAndColour)
 {
-    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
     json pbr = {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}};
-    auto quad = [&](const std::string& name, float factor, const char* texture, int index) {
-        json dt = {{"diffuseTransmissionFactor", factor}};
-        if (texture) dt[texture] = {{"index", index}};
-        Scene s = loadGltf(writeQuadWith(name, pbr, clamp, true,
-                                         {{"KHR_materials_diffuse_transmission", dt},
-                                          {"KHR_materials_specular", {{"specularFactor", 0.0}}}}));
+    json noLayer = {{"KHR_materials_specular", {{"specularFactor", 0.0}}}};
+    expectLayerTextures("KHR_materials_diffuse_transmission", pbr, noLayer, "diffuseTransmissionFactor",
+                        "diffuseTransmissionColorTexture", "diffuseTransmissionTexture", LOBE_DIFFUSE_TRANSMISSION);
+}
+
+void Textures::expectLayerTextures(const char* name, const json& pbr, const json& other, const char* factor,
+                                   const char* colourTexture, const char* factorTexture, uint32_t lobes)
+{
+    json clamp = {{"wrapS", 33071}, {"wrapT", 33071}};
+    auto quad = [&](const std::string& file, float value, const char* texture, int index) {
+        json extensions = other;
+        json& layer = extensions[name];
+        layer[factor] = value;
+        if (texture) layer[texture] = {{"index", index}};
+        Scene s = loadGltf(writeQuadWith(file, pbr, clamp, true, extensions));
         s.background = {1, 1, 1};
         return s;
     };
     const int size = 32, block = 8, iterations = 16;
     DeviceInfo device = test::devicesUnderTest()[0];
     auto render = [&](const Scene& s) { return test::render(device, s, Algorithm::PathTracing, size, size, iterations, 9).image; };
-    Scene coloured = quad("dt-coloured", 1.0f, "diffuseTransmissionColorTexture", 3);
-    Scene weakened = quad("dt-weakened", 1.0f, "diffuseTransmissionTexture", 4);
-    ASSERT_EQ(coloured.materials.at(0).diffuseTransmissionColorTexture, 1);
-    ASSERT_EQ(weakened.materials.at(0).diffuseTransmissionTexture, 1);
-    EXPECT_EQ(coloured.materials.at(0).lobes, LOBE_DIFFUSE_TRANSMISSION);
-    Image c = render(coloured), w = render(weakened), full = render(quad("dt-full", 1.0f, nullptr, 0)),
-          weak = render(quad("dt-weak", 64 / 255.0f, nullptr, 0));
+    Scene coloured = quad("coloured", 1.0f, colourTexture, 3), scaled = quad("scaled", 1.0f, factorTexture, 4);
+    EXPECT_EQ(coloured.materials.at(0).lobes, lobes);
+    Image c = render(coloured), w = render(scaled), full = render(quad("full", 1.0f, nullptr, 0)),
+          reduced = render(quad("reduced", 64 / 255.0f, nullptr, 0));
     expectCoatPngColours(c, full, size, block);
-    expectAlphaPngColumns(w, full, weak, size, block);
+    expectAlphaPngColumns(w, full, reduced, size, block);
 }
 
 // A brushed metal quad (KHR_materials_anisotropy: roughness 0.2, strength 1,
