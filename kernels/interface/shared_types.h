@@ -138,8 +138,8 @@ typedef struct Material {
     float anisotropy;          /* KHR_materials_anisotropy anisotropyStrength; 0: isotropic */
     float anisotropyRotation[2]; /* cos and sin of anisotropyRotation (from the tangent towards the bitangent) */
     int anisotropyTexture;     /* 1 + its index in the texture table; its RG a direction, its B scales anisotropy */
-    int pad[12]; /* 256 bytes: SIMD kernels index materials with a shift, not a multiply per lane
-                    (callgrind, vcm: shade_bidirectional 19 instructions per item fewer than at 208) */
+    int pad[12]; /* to 256 bytes: callgrind counts shade_bidirectional 19 instructions per item
+                    fewer (vcm) than at 208 or 224 (docs/performance.md, "Vectorization on PoCL") */
 } Material;
 
 /* glTF alphaMode. */
