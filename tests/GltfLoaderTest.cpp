@@ -289,6 +289,13 @@ protected:
         return s.materials.at(s.triangleMaterial.at(0));
     }
 
+    // The same for a rough dielectric (metallic 0, roughness 1) with these material extensions.
+    Material loadRoughDielectric(const json& extensions)
+    {
+        return loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+                             {"extensions", extensions}});
+    }
+
     // Loading must throw wv::Error naming the file and containing `keyword`.
     void expectLoadError(const std::string& path, const std::string& keyword)
     {
@@ -806,10 +813,7 @@ TEST_F(GltfLoader, MaterialClearcoatNormalTextureWarns)
 // sheen lobe for a colour that is not black, none for black.
 TEST_F(GltfLoader, MaterialSheen)
 {
-    auto sheened = [&](json sheen) {
-        return loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
-                             {"extensions", {{"KHR_materials_sheen", sheen}}}});
-    };
+    auto sheened = [&](json sheen) { return loadRoughDielectric({{"KHR_materials_sheen", sheen}}); };
     Material m = sheened({{"sheenColorFactor", {0.5, 0.25, 2.0}}, {"sheenRoughnessFactor", 0.3}});
     EXPECT_FLOAT_EQ(m.sheenColor[0], 0.5f);
     EXPECT_FLOAT_EQ(m.sheenColor[1], 0.25f);
@@ -831,8 +835,7 @@ TEST_F(GltfLoader, MaterialDiffuseTransmission)
     auto translucent = [&](json dt, json more = json::object()) {
         json extensions = {{"KHR_materials_diffuse_transmission", dt}};
         extensions.update(more);
-        return loadMaterial({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
-                             {"extensions", extensions}});
+        return loadRoughDielectric(extensions);
     };
     Material m = translucent({{"diffuseTransmissionFactor", 0.4}, {"diffuseTransmissionColorFactor", {0.5, 0.25, 2.0}}});
     EXPECT_FLOAT_EQ(m.diffuseTransmission, 0.4f);
@@ -861,6 +864,20 @@ TEST_F(GltfLoader, MaterialDiffuseTransmission)
     Scene s = load(b);
     EXPECT_TRUE(s.features().volumeAbsorption) << "a diffusely transmitting solid absorbs";
     EXPECT_FALSE(anyWarningContains(s, "KHR_materials_diffuse_transmission"));
+
+    // With a texture the factor may fall anywhere to 0: the diffuse lobe stays.
+    Image texture(1, 1);
+    texture.rgb = {1, 1, 1};
+    writeImage((dir_ / "white.png").string(), texture);
+    GltfBuilder t = oneTriangle();
+    t.j["images"] = {{{"uri", "white.png"}}};
+    t.j["textures"] = {{{"source", 0}}};
+    t.j["materials"][0]["extensions"]["KHR_materials_diffuse_transmission"] = {
+        {"diffuseTransmissionFactor", 1.0}, {"diffuseTransmissionTexture", {{"index", 0}}}};
+    Scene withTexture = load(t);
+    const Material& textured = withTexture.materials.at(0);
+    EXPECT_EQ(textured.diffuseTransmissionTexture, 1);
+    EXPECT_EQ(textured.lobes & (LOBE_DIFFUSE | LOBE_DIFFUSE_TRANSMISSION), LOBE_DIFFUSE | LOBE_DIFFUSE_TRANSMISSION);
 }
 
 // KHR_materials_anisotropy: the strength (default 0) and the rotation's
