@@ -17,6 +17,7 @@ SceneFeatures Scene::features() const
 {
     SceneFeatures f;
     f.vertexNormals = !normals.empty();
+    f.tangents = !tangents.empty();
     for (int m : triangleMaterial) {
         f.lobes |= materials[m].lobes;
         const float* e = materials[m].emission;
@@ -29,6 +30,8 @@ SceneFeatures Scene::features() const
         if (!mat.thinWalled && mat.attenuationDistance > 0 && (mat.lobes & (LOBE_GGX_TRANSMISSION | LOBE_DELTA_TRANSMISSION | LOBE_DIFFUSE_TRANSMISSION)) &&
             std::min({mat.attenuationColor[0], mat.attenuationColor[1], mat.attenuationColor[2]}) < 1)
             f.volumeAbsorption = true;
+        f.normalMaps |= f.tangents && mat.normalTexture > 0;
+        f.anisotropy |= mat.anisotropy > 0;
     }
     for (const Light& l : lights) {
         f.pointLights |= l.type == LIGHT_POINT;
@@ -38,11 +41,6 @@ SceneFeatures Scene::features() const
     f.environmentMap = !environment.empty();
     if (f.environmentMap) f.environmentSize = std::max(environment.image.width, environment.image.height);
     f.textures = !textures.empty();
-    f.tangents = !tangents.empty();
-    for (int m : triangleMaterial) {
-        f.normalMaps |= f.tangents && materials[m].normalTexture > 0;
-        f.anisotropy |= materials[m].anisotropy > 0;
-    }
     f.texCoord1 = !uvs1.empty();
     f.vertexColors = !colors.empty();
     f.orthographicCamera = camera.orthographic;
